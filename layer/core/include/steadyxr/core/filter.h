@@ -1,0 +1,58 @@
+// The filter core: GPU compute passes that turn a stereo frame into filtered display images.
+// Independent of OpenXR; the layer and the evaluation harness both drive this class.
+#pragma once
+
+#include "steadyxr/core/frame.h"
+#include "steadyxr/core/params.h"
+#include "steadyxr/core/vulkan_context.h"
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace steadyxr::core {
+
+// Input images need VK_IMAGE_USAGE_SAMPLED_BIT. Output images need VK_IMAGE_USAGE_STORAGE_BIT
+// (with a storage-capable format, or mutableFormat so the core can make a UNORM view of an SRGB
+// image) or else VK_IMAGE_USAGE_TRANSFER_DST_BIT (the core then writes an intermediate image and
+// copies). Depth images need VK_IMAGE_USAGE_SAMPLED_BIT.
+//
+// submit() records the frame into the next of a small ring of command buffers, each with its own
+// fence, and submits it to the context's queue. Before reusing a slot it waits for that slot's
+// fence only (work from several frames ago), never for the whole queue. Queue submission order
+// makes the app's earlier rendering visible (the first barrier has srcStage ALL_COMMANDS).
+// The caller must hold whatever lock guards the queue.
+class Filter {
+ public:
+  static std::unique_ptr<Filter> create(VulkanContext& context, const Params& params, std::string* error);
+  ~Filter();
+  Filter(const Filter&) = delete;
+  Filter& operator=(const Filter&) = delete;
+
+  // Filters `frame` into `output`. Returns false (and fills *error) when the frame cannot be
+  // filtered; the caller then passes the frame through. Never throws.
+  // signalSemaphore (optional) is signalled when the work finishes.
+  bool submit(const StereoFrame& frame, const StereoOutput& output, std::string* error,
+              VkSemaphore signalSemaphore = VK_NULL_HANDLE);
+
+  void setParams(const Params& params);  // takes effect on the next submit; method change resets history
+  const Params& params() const;
+  void reset();  // history is reinitialised on the next submit
+
+  // Blocks until all submitted work is done (tests, shutdown).
+  void waitIdle();
+
+  // GPU timings of the newest completed frame (timestamp queries), if the queue supports them.
+  std::optional<PassTimings> lastTimings() const;
+
+  // Forget cached views/descriptors of an image that the caller is about to destroy.
+  void forgetImage(VkImage image);
+
+  struct Impl;
+
+ private:
+  explicit Filter(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace steadyxr::core

@@ -1,0 +1,83 @@
+// Plain value types that describe one stereo frame handed to the filter core.
+// Conventions follow OpenXR: right-handed, +X right, +Y up, -Z forward; a Pose is the
+// eye's pose in a fixed reference space (view-to-world); a Fov is four angles in radians
+// (angleLeft and angleDown are normally negative). Image row 0 is the top (angleUp side).
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
+
+namespace steadyxr::core {
+
+struct Fov {
+  float angleLeft = -0.785398f;
+  float angleRight = 0.785398f;
+  float angleUp = 0.785398f;
+  float angleDown = -0.785398f;
+};
+
+struct Pose {
+  glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f};  // w, x, y, z
+  glm::vec3 position{0.0f};                       // metres
+};
+
+// One 2D region of one array layer of a Vulkan image.
+struct ImageRef {
+  VkImage image = VK_NULL_HANDLE;
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  VkExtent2D extent{};          // size of the whole image (mip 0)
+  uint32_t arrayLayer = 0;
+  uint32_t arrayLayerCount = 1;  // layers the image was created with
+  VkRect2D rect{};               // the sub-image the view occupies (OpenXR imageRect)
+  VkImageUsageFlags usage = 0;   // usage the image was created with
+  bool mutableFormat = false;    // created with VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT
+  // Layout the image is in when the filter's commands start; the filter leaves it in
+  // finalLayout (defaults to the same layout).
+  VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  std::optional<VkImageLayout> finalLayout;
+};
+
+// Depth as OpenXR's XrCompositionLayerDepthInfoKHR describes it.
+struct DepthRef {
+  ImageRef image;
+  float minDepth = 0.0f;
+  float maxDepth = 1.0f;
+  float nearZ = 0.1f;  // nearZ > farZ means reversed-Z; farZ may be +inf
+  float farZ = 1000.0f;
+};
+
+struct ViewFrame {
+  ImageRef color;
+  std::optional<DepthRef> depth;
+  Pose pose;
+  Fov fov;
+};
+
+struct StereoFrame {
+  std::array<ViewFrame, 2> views;
+  uint32_t viewCount = 2;          // 1 disables the stereo pass
+  int64_t displayTimeNs = 0;       // predicted display time of this frame
+  float headSpeedDegPerSec = 0.0f; // h for seed 003 Eq. 4, computed on the CPU by the caller
+  bool reset = false;              // drop all history before filtering this frame
+};
+
+struct StereoOutput {
+  std::array<ImageRef, 2> views;  // same size as the inputs' rects; may alias one image (array/side-by-side)
+};
+
+// GPU time of each pass of the last completed frame, both eyes together, in milliseconds.
+struct PassTimings {
+  double temporalMs = 0.0;
+  double stereoMs = 0.0;
+  double otherMs = 0.0;  // conversion / copy work
+  double totalMs = 0.0;
+  uint64_t frameIndex = 0;  // which submitted frame these belong to
+};
+
+}  // namespace steadyxr::core

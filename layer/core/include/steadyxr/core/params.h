@@ -1,0 +1,67 @@
+// Method selection and tunable parameters of the filter core. Value type; parse/format
+// helpers report bad input as an error string instead of throwing.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace steadyxr::core {
+
+enum class TemporalMethod : uint8_t {
+  None,    // pass-through
+  Fxaa,    // FXAA 3.11-style single-frame edge filter (seed 001 §4.3)
+  Taa,     // pose reprojection + YCoCg 3x3 variance clipping + constant alpha (seed 001, 002 §4.2)
+  Hmtaa,   // head-movement TAA, seed 003 Eq. 1-5
+  Vtaa,    // variance-optimal blending, seed 002 Eq. 4, 10, 11
+  Hybrid,  // hmtaa reprojection + A(h), with vtaa's per-pixel weight in place of the clip
+};
+
+// The shipped default temporal method: decided by the evaluation (eval/), one line to change.
+inline constexpr TemporalMethod kDefaultTemporalMethod = TemporalMethod::Hybrid;
+
+struct Params {
+  TemporalMethod temporal = kDefaultTemporalMethod;
+  bool stereo = true;  // stereo blending after the temporal pass (display only)
+
+  // taa
+  float taaAlpha = 0.1f;     // weight of the current frame
+  float taaClipGamma = 1.0f; // clip box = mean +- gamma * sigma (YCoCg)
+
+  // hmtaa (seed 003 §5.2.2 defaults)
+  float hMaxDegPerSec = 25.0f;
+  float wMin = 0.3f;
+  float wLowerBound = 0.1f;                 // w_lb of Eq. 5
+  static constexpr uint32_t kMaxSamples = 4;
+  uint32_t sampleCount = 1;                 // n past samples
+  std::array<float, kMaxSamples> sampleD{2.0f / 3.0f, 1.0f / 3.0f, 0.0f, 0.0f};  // d_i in [0,1]
+
+  // vtaa / hybrid
+  float vtaaAlphaMin = 0.05f;  // lower clamp of alpha' (the weight of the current frame)
+
+  // stereo (seed 002 §4.1, §5.2)
+  float stereoFarDistanceM = 10.0f;  // assumed scene distance when no depth is given
+  float stereoDepthTolerance = 0.05f; // relative depth difference that rejects the other eye
+  float stereoBetaMin = 0.0f;         // lower clamp of beta (the weight of this eye)
+
+  // history reset
+  float resetAngleDeg = 30.0f;        // a pose jump larger than this between frames resets history
+  float resetTranslationM = 0.5f;
+};
+
+std::string_view toString(TemporalMethod m);
+std::optional<TemporalMethod> parseTemporalMethod(std::string_view name);
+
+// Full method names as users type them: "none", "fxaa", "taa", "hmtaa", "vtaa", "hybrid",
+// "stereo" (stereo only), "<temporal>+stereo", and "default". Returns nullopt for unknown names.
+// Only the method fields of `base` are changed.
+std::optional<Params> applyMethodName(std::string_view name, Params base = {});
+std::string methodName(const Params& p);  // inverse of applyMethodName
+
+// Checks ranges (NaN, negative, out of [0,1], ...). Returns an empty string when valid, else a
+// human-readable message naming the first bad field; `sanitized` gets safe defaults for bad fields.
+std::string validate(const Params& p, Params* sanitized = nullptr);
+
+}  // namespace steadyxr::core
