@@ -1,0 +1,106 @@
+// Pure helpers for xrEndFrame: which projection layers the layer can filter (and why not), and
+// copies of the app's structs that point at the layer's own swapchains. No OpenXR calls here.
+#pragma once
+
+#include <vulkan/vulkan.h>
+#ifndef XR_USE_GRAPHICS_API_VULKAN
+#define XR_USE_GRAPHICS_API_VULKAN
+#endif
+#include <openxr/openxr.h>
+#include <openxr/openxr_platform.h>
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace steadyxr::layer {
+
+// Zero-initialised OpenXR / Vulkan structs with their type tag set.
+template <typename T>
+T makeXr(XrStructureType type, const void* next = nullptr) {
+  T v{};
+  v.type = type;
+  v.next = const_cast<decltype(v.next)>(next);
+  return v;
+}
+template <typename T>
+T makeVk(VkStructureType type) {
+  T v{};
+  v.sType = type;
+  return v;
+}
+
+// Why a frame (or one projection layer) was passed through untouched.
+enum class PassReason : uint8_t {
+  Disabled,
+  NotVulkan,
+  NoProjectionLayer,
+  ViewCount,
+  UnknownSwapchain,
+  NoReleasedImage,
+  UnsupportedFormat,
+  BadImageRect,
+  MissingPose,
+  OutputSwapchain,
+  XrError,
+  FilterError,
+  Count
+};
+std::string_view toString(PassReason r);
+
+// What the layer knows about one of the app's swapchains.
+struct SwapchainFacts {
+  int64_t format = 0;
+  uint32_t width = 0;
+  uint32_t height = 0;
+  uint32_t arraySize = 1;
+  XrSwapchainUsageFlags usage = 0;
+  bool hasReleasedImage = false;
+  bool imagesKnown = false;
+};
+using SwapchainLookup = std::function<std::optional<SwapchainFacts>(XrSwapchain)>;
+
+bool isFilterableColorFormat(int64_t vkFormat);
+bool isSrgbFormat(int64_t vkFormat);
+bool isDepthFormat(int64_t vkFormat);
+bool isValidPose(const XrPosef& pose);
+bool isValidFov(const XrFovf& fov);
+
+// nullopt: the projection layer can be filtered.
+std::optional<PassReason> checkProjection(const XrCompositionLayerProjection& layer, const SwapchainLookup& lookup);
+
+// The chained XrCompositionLayerDepthInfoKHR of a projection view, if any.
+const XrCompositionLayerDepthInfoKHR* findDepthInfo(const XrCompositionLayerProjectionView& view);
+
+// The usage the layer asks for on the app's swapchains (so the filter can sample them).
+XrSwapchainUsageFlags appSwapchainUsage(XrSwapchainUsageFlags requested);
+// The layer's output swapchain for an app colour swapchain: same format, size and array size.
+XrSwapchainCreateInfo outputSwapchainInfo(const XrSwapchainCreateInfo& app, bool mutableFormatSupported);
+// Vulkan usage bits implied by OpenXR swapchain usage bits (what the runtime must at least set).
+VkImageUsageFlags vulkanUsage(XrSwapchainUsageFlags usage);
+
+// Owns the copies handed to the next xrEndFrame. The app's structs are never modified; the
+// copies keep the app's `next` chains (depth info still names the app's depth swapchain).
+class FrameRewrite {
+ public:
+  explicit FrameRewrite(const XrFrameEndInfo& app);
+  // Replaces layer `index` (a projection layer) by a copy whose view i uses swapchains[i];
+  // `fovs` (optional) replaces the views' fov (un-jitter).
+  void replaceProjection(uint32_t index, const std::vector<XrSwapchain>& swapchains,
+                         const std::vector<XrFovf>* fovs = nullptr);
+  const XrFrameEndInfo& info() const { return info_; }
+  uint32_t replacedCount() const { return replaced_; }
+
+ private:
+  XrFrameEndInfo info_;
+  std::vector<const XrCompositionLayerBaseHeader*> layers_;
+  std::deque<XrCompositionLayerProjection> projections_;  // deque: stable addresses
+  std::deque<std::vector<XrCompositionLayerProjectionView>> views_;
+  uint32_t replaced_ = 0;
+};
+
+}  // namespace steadyxr::layer

@@ -1,0 +1,149 @@
+// Per-instance and per-session state of the layer, and the one registry that maps OpenXR
+// handles to them (the layer's only global mutable state).
+#pragma once
+
+#include "config.h"
+#include "dump.h"
+#include "log.h"
+#include "rewrite.h"
+#include "steadyxr/core/filter.h"
+#include "steadyxr/core/vulkan_context.h"
+
+#include <array>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace steadyxr::layer {
+
+inline constexpr char kLayerName[] = "XR_APILAYER_STEADYXR_head_taa";
+
+// Functions of the next layer (or runtime).
+struct Dispatch {
+  PFN_xrGetInstanceProcAddr getInstanceProcAddr = nullptr;
+  PFN_xrDestroyInstance destroyInstance = nullptr;
+  PFN_xrCreateSession createSession = nullptr;
+  PFN_xrDestroySession destroySession = nullptr;
+  PFN_xrCreateSwapchain createSwapchain = nullptr;
+  PFN_xrDestroySwapchain destroySwapchain = nullptr;
+  PFN_xrEnumerateSwapchainImages enumerateSwapchainImages = nullptr;
+  PFN_xrAcquireSwapchainImage acquireSwapchainImage = nullptr;
+  PFN_xrWaitSwapchainImage waitSwapchainImage = nullptr;
+  PFN_xrReleaseSwapchainImage releaseSwapchainImage = nullptr;
+  PFN_xrEnumerateSwapchainFormats enumerateSwapchainFormats = nullptr;
+  PFN_xrLocateViews locateViews = nullptr;
+  PFN_xrEndFrame endFrame = nullptr;
+  PFN_xrCreateReferenceSpace createReferenceSpace = nullptr;
+  PFN_xrDestroySpace destroySpace = nullptr;
+  PFN_xrLocateSpace locateSpace = nullptr;
+  PFN_xrResultToString resultToString = nullptr;
+  PFN_xrCreateVulkanInstanceKHR createVulkanInstanceKHR = nullptr;  // XR_KHR_vulkan_enable2 only
+};
+bool loadDispatch(XrInstance instance, PFN_xrGetInstanceProcAddr gipa, Dispatch* out);
+
+struct InstanceState {
+  XrInstance handle = XR_NULL_HANDLE;
+  Dispatch next;
+  Config config;
+  std::unique_ptr<Logger> log;
+  std::string applicationName;
+  uint32_t vulkanApiVersion = VK_API_VERSION_1_0;  // from xrCreateVulkanInstanceKHR when seen
+};
+
+// A swapchain the layer owns (its output images). Destroys itself through the next layer.
+class OwnedSwapchain {
+ public:
+  OwnedSwapchain(const Dispatch& next, XrSwapchain handle, const XrSwapchainCreateInfo& info,
+                 std::vector<VkImage> images)
+      : next_(&next), handle_(handle), info_(info), images_(std::move(images)) {}
+  ~OwnedSwapchain() {
+    if (handle_ != XR_NULL_HANDLE) next_->destroySwapchain(handle_);
+  }
+  OwnedSwapchain(const OwnedSwapchain&) = delete;
+  OwnedSwapchain& operator=(const OwnedSwapchain&) = delete;
+  XrSwapchain handle() const { return handle_; }
+  const XrSwapchainCreateInfo& info() const { return info_; }
+  const std::vector<VkImage>& images() const { return images_; }
+
+ private:
+  const Dispatch* next_;
+  XrSwapchain handle_;
+  XrSwapchainCreateInfo info_;
+  std::vector<VkImage> images_;
+};
+
+struct AppSwapchain {
+  XrSwapchainCreateInfo info{};  // as created (with the layer's added usage)
+  std::vector<VkImage> images;
+  std::deque<uint32_t> acquired;    // acquired, not yet released (FIFO per the spec)
+  std::optional<uint32_t> released; // the newest released image: what xrEndFrame shows
+  std::unique_ptr<OwnedSwapchain> output;
+  SwapchainFacts facts() const;
+};
+
+struct SessionStats {
+  uint64_t framesFiltered = 0;
+  std::array<uint64_t, 2> viewsFiltered{};
+  uint64_t framesEmpty = 0;  // no projection layer submitted (not rendering)
+  std::array<uint64_t, static_cast<size_t>(PassReason::Count)> passed{};
+  uint64_t timingFrames = 0;
+  double temporalMs = 0, stereoMs = 0, otherMs = 0, totalMs = 0;
+  uint64_t lastTimingIndex = UINT64_MAX;
+  std::string summary() const;
+};
+
+class Session {
+ public:
+  Session(std::shared_ptr<InstanceState> instance, XrSession handle,
+          std::optional<XrGraphicsBindingVulkanKHR> vulkan);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  const Dispatch& next() const { return instance_->next; }
+  XrSession handle() const { return handle_; }
+  bool filtering() const { return filtering_; }
+
+  XrResult createSwapchain(const XrSwapchainCreateInfo* info, XrSwapchain* swapchain);
+  XrResult destroySwapchain(XrSwapchain swapchain);
+  XrResult enumerateImages(XrSwapchain swapchain, uint32_t capacity, uint32_t* count,
+                           XrSwapchainImageBaseHeader* images);
+  XrResult acquire(XrSwapchain swapchain, const XrSwapchainImageAcquireInfo* info, uint32_t* index);
+  XrResult release(XrSwapchain swapchain, const XrSwapchainImageReleaseInfo* info);
+  XrResult endFrame(const XrFrameEndInfo* info);
+  // Waits for the GPU, logs the summary and destroys what the layer created in the session.
+  void shutdown();
+
+ private:
+  bool initFilter();
+  OwnedSwapchain* ensureOutput(AppSwapchain& app);
+  std::optional<PassReason> filterProjection(const XrCompositionLayerProjection& layer, int64_t displayTime,
+                                             std::vector<XrSwapchain>* outputs);
+  float headSpeed(const XrCompositionLayerProjection& layer, int64_t displayTime);
+  void passed(PassReason reason, const std::string& detail);
+  std::string xrError(const char* what, XrResult r) const;
+
+  std::shared_ptr<InstanceState> instance_;
+  XrSession handle_;
+  bool filtering_ = false;
+  bool shutDown_ = false;
+  XrGraphicsBindingVulkanKHR binding_{};
+  std::mutex mutex_;
+  std::unique_ptr<core::VulkanContext> vk_;
+  std::unique_ptr<core::Filter> filter_;  // declared after vk_: destroyed first
+  std::map<XrSwapchain, AppSwapchain> swapchains_;
+  XrSpace viewSpace_ = XR_NULL_HANDLE;
+  std::optional<XrQuaternionf> lastOrientation_;
+  int64_t lastDisplayTime_ = 0;
+  XrSpace lastSpace_ = XR_NULL_HANDLE;
+  float smoothedSpeed_ = 0.0f;
+  SessionStats stats_;
+  ImageDumper dumper_;
+  bool mutableFormat_ = false;
+};
+
+}  // namespace steadyxr::layer

@@ -1,0 +1,105 @@
+// Compares the layer's dumped eye images (PNG) for the end-to-end test.
+//   png_compare equal A.png B.png
+//       exit 0 when the RGB pixels are identical; prints the largest channel difference.
+//   png_compare changes PREV_IN.png IN.png OUT.png [tolerance] [dilate]
+//       prints "differ=N outside=N changed=N total=N": pixels where OUT differs from IN, those of
+//       them outside the region where the input changed between frames (grown by `dilate`
+//       pixels), the changed region's size, and the image size.
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_STATIC
+#include <stb_image.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct Image {
+  int w = 0;
+  int h = 0;
+  std::vector<unsigned char> rgba;
+  int diff(const Image& o, size_t p) const {
+    int m = 0;
+    for (int c = 0; c < 3; ++c) m = std::max(m, std::abs(int(rgba[p * 4 + c]) - int(o.rgba[p * 4 + c])));
+    return m;
+  }
+};
+
+bool load(const char* path, Image* out) {
+  int n = 0;
+  std::unique_ptr<unsigned char, void (*)(void*)> data(stbi_load(path, &out->w, &out->h, &n, 4), stbi_image_free);
+  if (!data) {
+    std::fprintf(stderr, "png_compare: cannot read %s\n", path);
+    return false;
+  }
+  out->rgba.assign(data.get(), data.get() + size_t(out->w) * out->h * 4);
+  return true;
+}
+
+int usage() {
+  std::fprintf(stderr, "usage: png_compare equal A B | changes PREV_IN IN OUT [tolerance] [dilate]\n");
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) return usage();
+  const std::string mode = argv[1];
+  if (mode == "equal" && argc == 4) {
+    Image a, b;
+    if (!load(argv[2], &a) || !load(argv[3], &b)) return 2;
+    if (a.w != b.w || a.h != b.h) {
+      std::printf("size differs\n");
+      return 1;
+    }
+    int maxDiff = 0;
+    size_t count = 0;
+    for (size_t p = 0; p < size_t(a.w) * a.h; ++p) {
+      const int d = a.diff(b, p);
+      maxDiff = std::max(maxDiff, d);
+      count += d > 0;
+    }
+    std::printf("max_diff=%d differ=%zu total=%zu\n", maxDiff, count, size_t(a.w) * a.h);
+    return maxDiff == 0 ? 0 : 1;
+  }
+  if (mode == "changes" && (argc >= 5 && argc <= 7)) {
+    Image prev, in, out;
+    if (!load(argv[2], &prev) || !load(argv[3], &in) || !load(argv[4], &out)) return 2;
+    const int tol = argc > 5 ? std::atoi(argv[5]) : 2;
+    const int grow = argc > 6 ? std::atoi(argv[6]) : 2;
+    if (prev.w != in.w || prev.h != in.h || out.w != in.w || out.h != in.h) return 2;
+    const int w = in.w, h = in.h;
+    std::vector<unsigned char> changed(size_t(w) * h, 0), near(size_t(w) * h, 0);
+    size_t changedCount = 0;
+    for (size_t p = 0; p < changed.size(); ++p) {
+      changed[p] = in.diff(prev, p) > tol;
+      changedCount += changed[p];
+    }
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        if (!changed[size_t(y) * w + x]) continue;
+        for (int dy = -grow; dy <= grow; ++dy) {
+          for (int dx = -grow; dx <= grow; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx >= 0 && yy >= 0 && xx < w && yy < h) near[size_t(yy) * w + xx] = 1;
+          }
+        }
+      }
+    }
+    size_t differ = 0, outside = 0;
+    for (size_t p = 0; p < changed.size(); ++p) {
+      if (out.diff(in, p) > tol) {
+        ++differ;
+        outside += !near[p];
+      }
+    }
+    std::printf("differ=%zu outside=%zu changed=%zu total=%zu\n", differ, outside, changedCount, changed.size());
+    return 0;
+  }
+  return usage();
+}
