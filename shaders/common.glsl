@@ -1,0 +1,82 @@
+// Shared declarations of the filter core's compute passes. Every pass uses the same descriptor
+// set layout (unused bindings get 1x1 dummies) so the host side has one layout and one pool.
+
+
+#ifndef OUT_FORMAT
+#define OUT_FORMAT rgba8
+#endif
+
+layout(local_size_x = 16, local_size_y = 8) in;
+
+layout(set = 0, binding = 0) uniform sampler2D uSrc0;    // current colour / this eye
+layout(set = 0, binding = 1) uniform sampler2D uSrc1;    // history / other eye
+layout(set = 0, binding = 2) uniform sampler2D uDepth0;  // this eye's depth (texelFetch only)
+layout(set = 0, binding = 3) uniform sampler2D uDepth1;  // other eye's depth
+layout(set = 0, binding = 4, rgba16f) uniform writeonly image2D uHistOut;
+layout(set = 0, binding = 5, OUT_FORMAT) uniform writeonly image2D uOut;
+
+// Must match PassUniforms in filter.cpp (std140).
+layout(set = 0, binding = 6, std140) uniform PassParams {
+  mat4 reproj[4];     // (x, y, 1, 1/z) of this pixel -> homogeneous pixel coords in src1's rect
+  vec4 sampleW;       // W(d_i), seed 003 Eq. 2
+  ivec4 src0Rect;     // xy offset, zw size (size is also the dispatch size)
+  vec4 src0InvExtent; // xy 1/extent of src0's image
+  ivec4 src1Rect;
+  vec4 src1InvExtent;
+  ivec4 depthOffset;  // xy depth0 rect offset, zw depth1 rect offset
+  vec4 depth0;        // 1/nearZ, 1/farZ - 1/nearZ, minDepth, 1/(maxDepth-minDepth)
+  vec4 depth1;
+  vec4 w0;            // taaAlpha, clipGamma, alphaMin, shape S of Eq. 4 (1 = h > h_max)
+  vec4 w1;            // wMin, wLowerBound, depthTolerance, fallback 1/z (no depth)
+  ivec4 flags;        // mode, sampleCount, historyValid, writeOut
+  ivec4 flags2;       // encodeSrgb, swapRB, writeHist, hasDepth (bit0 this, bit1 other)
+  ivec4 outOffset;    // xy where pixel (0,0) goes in uOut
+} P;
+
+vec3 sanitize(vec3 c) {
+  // NaN/Inf must never reach the history: replace by black, clamp to the half-float range.
+  bvec3 bad = bvec3(isnan(c.x) || isinf(c.x), isnan(c.y) || isinf(c.y), isnan(c.z) || isinf(c.z));
+  return clamp(mix(c, vec3(0.0), bad), vec3(0.0), vec3(65000.0));
+}
+
+vec3 fetchSrc0(ivec2 p) {
+  p = clamp(p, ivec2(0), P.src0Rect.zw - 1);
+  return sanitize(texelFetch(uSrc0, P.src0Rect.xy + p, 0).rgb);
+}
+
+// Bilinear sample of src1 at continuous pixel coords q (pixel centres at +0.5) of its rect.
+vec3 sampleSrc1(vec2 q) {
+  q = clamp(q, vec2(0.5), vec2(P.src1Rect.zw) - 0.5);
+  return sanitize(textureLod(uSrc1, (vec2(P.src1Rect.xy) + q) * P.src1InvExtent.xy, 0.0).rgb);
+}
+
+float invZFromDepth(float d, vec4 dp) {
+  float n = clamp((d - dp.z) * dp.w, 0.0, 1.0);
+  return max(dp.x + n * dp.y, 0.0);  // 1/z is linear in the stored depth
+}
+
+float linearToSrgb1(float c) {
+  return c <= 0.0031308 ? c * 12.92 : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
+}
+
+void writeOutput(ivec2 p, vec3 c) {
+  vec4 o = vec4(c, 1.0);
+  if (P.flags2.x != 0) {
+    o.rgb = clamp(o.rgb, 0.0, 1.0);
+    o.rgb = vec3(linearToSrgb1(o.r), linearToSrgb1(o.g), linearToSrgb1(o.b));
+  }
+  if (P.flags2.y != 0) o = o.bgra;
+  imageStore(uOut, P.outOffset.xy + p, o);
+}
+
+// Reprojects pixel centre p (with 1/z) through matrix m; returns false when behind or outside.
+bool reproject(mat4 m, vec2 pc, float invZ, out vec2 q, out float invZOther) {
+  vec4 h = m * vec4(pc, 1.0, invZ);
+  invZOther = 0.0;
+  q = vec2(-1.0);
+  if (!(h.z > 1e-12)) return false;
+  q = h.xy / h.z;
+  invZOther = h.w / h.z;
+  vec2 size = vec2(P.src1Rect.zw);
+  return all(greaterThanEqual(q, vec2(0.0))) && all(lessThanEqual(q, size));
+}

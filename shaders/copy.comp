@@ -1,0 +1,12 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Pass-through (`none`) and the benchmark's floor: copies the input rect to the output rect.
+#include "common.glsl"
+
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(p, P.src0Rect.zw))) return;
+  vec3 c = sanitize(texelFetch(uSrc0, P.src0Rect.xy + p, 0).rgb);
+  if (P.flags2.z != 0) imageStore(uHistOut, p, vec4(c, 1.0));
+  if (P.flags.w != 0) writeOutput(p, c);
+}

@@ -1,0 +1,50 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Stereo blending (seed 002 §4.1/§5.2): the other eye reprojected into this one (depth or a far
+// plane), rejected by a depth check, blended with beta from Eq. 4. Display only.
+#include "common.glsl"
+
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = P.src0Rect.zw;
+  if (any(greaterThanEqual(p, size))) return;
+  vec3 m1 = vec3(0.0), m2 = vec3(0.0);
+  vec3 y = fetchSrc0(p);
+  for (int j = -1; j <= 1; ++j)
+    for (int i = -1; i <= 1; ++i) {
+      vec3 c = (i == 0 && j == 0) ? y : fetchSrc0(p + ivec2(i, j));
+      m1 += c;
+      m2 += c * c;
+    }
+  vec3 mn = m1 / 9.0;
+  vec3 var = max(m2 / 9.0 - mn * mn, vec3(0.0));
+
+  bool hasThis = (P.flags2.w & 1) != 0;
+  bool hasOther = (P.flags2.w & 2) != 0;
+  float invZ = P.w1.w;
+  if (hasThis) invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + p, 0).r, P.depth0);
+
+  vec3 result = y;
+  vec2 q;
+  float izExpected;
+  if (reproject(P.reproj[0], vec2(p) + 0.5, invZ, q, izExpected)) {
+    bool ok = true;
+    if (hasThis && hasOther) {
+      ivec2 qi = clamp(ivec2(floor(q)), ivec2(0), P.src1Rect.zw - 1);
+      float izOther = invZFromDepth(texelFetch(uDepth1, P.depthOffset.zw + qi, 0).r, P.depth1);
+      // Relative depth difference |z_e - z_o| / z_e = |iz_o - iz_e| / iz_o (infinite depths match).
+      ok = abs(izOther - izExpected) <= P.w1.z * izOther + 1e-7;
+    }
+    if (ok) {
+      vec3 x = sampleSrc1(q);
+      float s2 = (var.r + var.g + var.b) / 3.0;
+      vec3 d = x - mn;
+      float e = dot(d, d) / 3.0 + s2;
+      float beta = e > 1e-12 ? 1.0 - s2 / e : 0.0;
+      beta = clamp(beta, P.w0.z, 1.0);
+      result = mix(x, y, beta);
+    }
+  }
+  if (any(isnan(result)) || any(isinf(result))) result = y;
+  writeOutput(p, result);
+}

@@ -1,0 +1,107 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Temporal passes: taa (mode 0), hmtaa (1), vtaa (2), hybrid (3). Writes the new history
+// (RGBA16F, linear light) and, when no stereo pass follows, the output.
+#include "common.glsl"
+
+const int kTaa = 0;
+const int kHmtaa = 1;
+const int kVtaa = 2;
+const int kHybrid = 3;
+
+vec3 toYCoCg(vec3 c) {
+  return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b, -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
+}
+vec3 fromYCoCg(vec3 y) { return vec3(y.x + y.y - y.z, y.x + y.z, y.x - y.y - y.z); }
+
+// Seed 003 Eq. 1/2: W-weighted sum of the interpolated reprojections; false if none is valid.
+bool pastColour(vec2 pc, float invZ, out vec3 past) {
+  past = vec3(0.0);
+  float wsum = 0.0;
+  for (int i = 0; i < P.flags.y; ++i) {
+    vec2 q;
+    float iz;
+    if (reproject(P.reproj[i], pc, invZ, q, iz)) {
+      past += P.sampleW[i] * sampleSrc1(q);
+      wsum += P.sampleW[i];
+    }
+  }
+  if (wsum <= 0.0) return false;
+  past /= wsum;  // renormalise over the samples that landed inside the previous image
+  return true;
+}
+
+// Seed 002 Eq. 4 with Eq. 10 (sigma^2 of the 3x3) and Eq. 11 (mean of (X - Y_i)^2), averaged
+// over RGB. Uses sum_i (X - Y_i)^2 / 9 = (X - mean)^2 + sigma^2 (population estimators).
+float varianceAlpha(vec3 x, vec3 mean, vec3 var) {
+  float s2 = max((var.r + var.g + var.b) / 3.0, 0.0);
+  vec3 d = x - mean;
+  float e = dot(d, d) / 3.0 + s2;
+  float a = e > 1e-12 ? 1.0 - s2 / e : 0.0;
+  return clamp(a, P.w0.z, 1.0);
+}
+
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = P.src0Rect.zw;
+  if (any(greaterThanEqual(p, size))) return;
+  int mode = P.flags.x;
+  vec2 pc = vec2(p) + 0.5;
+  vec3 cur = fetchSrc0(p);
+
+  float invZ = P.w1.w;
+  if ((P.flags2.w & 1) != 0) invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + p, 0).r, P.depth0);
+
+  vec3 result = cur;
+  if (P.flags.z != 0) {
+    vec3 m1 = vec3(0.0), m2 = vec3(0.0);
+    vec3 mn = vec3(0.0), var = vec3(0.0);
+    if (mode != kHmtaa) {
+      for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x) {
+          vec3 c = (x == 0 && y == 0) ? cur : fetchSrc0(p + ivec2(x, y));
+          if (mode == kTaa) c = toYCoCg(c);
+          m1 += c;
+          m2 += c * c;
+        }
+      mn = m1 / 9.0;
+      var = max(m2 / 9.0 - mn * mn, vec3(0.0));
+    }
+    vec3 past;
+    if (mode == kTaa) {
+      vec2 q;
+      float iz;
+      if (reproject(P.reproj[0], pc, invZ, q, iz)) {
+        // Variance clipping: clip the history towards the mean onto the box mean +- gamma*sigma.
+        vec3 h = toYCoCg(sampleSrc1(q));
+        vec3 ext = P.w0.y * sqrt(var) + 1e-6;
+        vec3 d = h - mn;
+        vec3 t = abs(d) / ext;
+        float mx = max(t.x, max(t.y, t.z));
+        if (mx > 1.0) h = mn + d / mx;
+        result = max(mix(fromYCoCg(h), cur, P.w0.x), vec3(0.0));
+      }
+    } else if (pastColour(pc, invZ, past)) {
+      float a;
+      if (mode == kVtaa) {
+        a = varianceAlpha(past, mn, var);
+      } else if (P.w0.w >= 1.0) {
+        a = 1.0;  // h > h_max: the current frame exactly
+      } else if (mode == kHmtaa) {
+        // Seed 003 Eq. 5 then Eq. 4 with the localised w'_min (shape S computed on the CPU).
+        vec3 dc = cur - past;
+        float cdiff = clamp(sqrt(dot(dc, dc) / 3.0), 0.0, 1.0);
+        float wmin = P.w1.x - (P.w1.x - P.w1.y) * cdiff;
+        a = P.w0.w * (1.0 - wmin) + wmin;
+      } else {
+        // Hybrid: the variance weight, never below A(h) (with w_min = alphaMin).
+        float ah = P.w0.w * (1.0 - P.w0.z) + P.w0.z;
+        a = max(varianceAlpha(past, mn, var), ah);
+      }
+      result = a >= 1.0 ? cur : mix(past, cur, a);
+    }
+  }
+  if (any(isnan(result)) || any(isinf(result))) result = cur;
+  if (P.flags2.z != 0) imageStore(uHistOut, p, vec4(result, 1.0));
+  if (P.flags.w != 0) writeOutput(p, result);
+}
