@@ -1,0 +1,134 @@
+// steadyxr-eval: the evaluation harness's command line (see suite.h and DESIGN.md "Evaluation").
+#include "suite.h"
+
+#include <cstdlib>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+std::vector<std::string> splitList(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+void usage() {
+  std::cout <<
+      R"(usage: steadyxr-eval [options]
+Renders test scenes under simulated head motion, filters them with every method of the filter
+core, models the display stage (timewarp, seed 004 depth warping) and prints accuracy and cost.
+
+  --out DIR            output folder (default out)
+  --scenes LIST        imageviewer,thin,moving,disocclusion,noisy (default: the default suite)
+  --motions LIST       fixation,pursuit,fastturn,sequence (head-motion presets)
+  --trace FILE[,FILE]  head-motion trace CSV(s) (t_s,qw,qx,qy,qz[,...] or t_s,wx,wy,wz); repeatable
+  --images LIST        pictures for the image viewer: PNG paths or python3-skimage names
+                       (default astronaut,camera,coffee,brick,grass,text,page; the default
+                       suite uses the first three under fixation)
+  --methods LIST       none,fxaa,msaa2,msaa4,taa,hmtaa,vtaa,hybrid, each also <m>+stereo,
+                       stereo, default; sweeps as <m>@key=value[@key=value] with keys
+                       hmax,wmin,wlb,amin,alpha,gamma,beta,d (default: all + sweeps)
+  --resolution WxH     per eye (default 256x256)
+  --frames N           app frames per scenario (default 60)
+  --seed N             head-motion seed (default 1)
+  --app-hz F           app frame rate (default 30)
+  --display-hz F       display rate (default 90)
+  --start S            start time in the motion stream, seconds (default 0)
+  --gt-grid N          ground truth with N*N jittered samples per pixel (default 4 = 16 spp)
+  --warp-steps N       seed 004 study: extrapolate 1..N display frames (default 6)
+  --threshold F        error-pixel threshold per channel in [0,1] (default 0.1)
+  --no-sweeps          skip the parameter sweeps
+  --quick              small run: 1 picture, no sweeps, 20 frames, 128x128 (unless given)
+  --validation         enable the Vulkan validation layer
+  --no-progress        no progress bar
+)";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  steadyxr::eval::Options o;
+  bool resolutionGiven = false, framesGiven = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::cerr << "steadyxr-eval: " << a << " needs a value\n";
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    try {
+      if (a == "--help" || a == "-h") {
+        usage();
+        return 0;
+      } else if (a == "--out") {
+        o.outDir = next();
+      } else if (a == "--scenes" || a == "--scene") {
+        o.scenes = splitList(next());
+      } else if (a == "--motions" || a == "--motion") {
+        o.motions = splitList(next());
+      } else if (a == "--trace" || a == "--traces") {
+        for (const auto& t : splitList(next())) o.traces.push_back(t);
+      } else if (a == "--images" || a == "--image") {
+        o.images = splitList(next());
+      } else if (a == "--methods") {
+        o.methods = splitList(next());
+      } else if (a == "--resolution") {
+        const std::string r = next();
+        const auto x = r.find('x');
+        o.width = std::stoi(r.substr(0, x));
+        o.height = x == std::string::npos ? o.width : std::stoi(r.substr(x + 1));
+        resolutionGiven = true;
+      } else if (a == "--frames") {
+        o.frames = std::stoi(next());
+        framesGiven = true;
+      } else if (a == "--seed") {
+        o.seed = std::stoull(next());
+      } else if (a == "--app-hz") {
+        o.appHz = std::stod(next());
+      } else if (a == "--display-hz") {
+        o.displayHz = std::stod(next());
+      } else if (a == "--start") {
+        o.startSec = std::stod(next());
+      } else if (a == "--gt-grid") {
+        o.gtGrid = std::stoi(next());
+      } else if (a == "--warp-steps") {
+        o.warpSteps = std::stoi(next());
+      } else if (a == "--threshold") {
+        o.errorThreshold = std::stof(next());
+      } else if (a == "--no-sweeps") {
+        o.sweeps = false;
+      } else if (a == "--quick") {
+        o.quick = true;
+      } else if (a == "--validation") {
+        o.validation = true;
+      } else if (a == "--no-progress") {
+        o.progress = false;
+      } else {
+        std::cerr << "steadyxr-eval: unknown option '" << a << "' (see --help)\n";
+        return 2;
+      }
+    } catch (const std::exception&) {
+      std::cerr << "steadyxr-eval: bad value for " << a << "\n";
+      return 2;
+    }
+  }
+  if (o.quick) {
+    if (!resolutionGiven) o.width = o.height = 128;
+    if (!framesGiven) o.frames = 20;
+  }
+  if (o.width < 16 || o.height < 16 || o.width > 4096 || o.height > 4096 || o.frames < 2 || o.gtGrid < 1 ||
+      o.appHz <= 0 || o.displayHz < o.appHz || o.warpSteps < 0) {
+    std::cerr
+        << "steadyxr-eval: bad resolution/frames/rates (need >= 16x16, >= 2 frames, display >= app rate)\n";
+    return 2;
+  }
+  return steadyxr::eval::runSuite(o);
+}

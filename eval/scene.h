@@ -1,0 +1,51 @@
+// The evaluation scenes: each is a handful of textured quads, a function of time (for moving
+// objects), an optional head translation it adds (disocclusion), and the per-pixel motion field
+// that seed 004's forward warp needs.
+#pragma once
+
+#include "image.h"
+#include "renderer.h"
+#include "warp.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace steadyxr::eval {
+
+// Textures every scene can use, uploaded once. Index 0 is plain white (flat-coloured quads).
+struct TextureSet {
+  std::vector<Rgba8> images;
+  std::vector<std::string> names;
+  uint32_t find(const std::string& name) const;  // 0 when absent
+};
+
+// Loads `nameOrPath`: an existing file path, or a name in python3-skimage's data folder;
+// falls back to a procedural checkerboard (with a note in *warning) so runs never fail on it.
+Rgba8 loadTextureOrFallback(const std::string& nameOrPath, std::string* warning);
+std::string textureKey(const std::string& nameOrPath);  // file stem
+
+struct Scene {
+  std::string name;     // "imageviewer", "thin", "moving", "disocclusion", "noisy"
+  std::string picture;  // texture key of the picture (image-viewer scenes)
+  bool hasMovingObject = false;
+  DrawList drawsAt(double tSec) const;
+  glm::vec3 headOffset(double tSec) const;  // extra head translation (metres, world)
+  // Seed 004's V = P_n - P_{n-1}: motion of the surface point p (seen at time t) over dt.
+  glm::vec3 motion(const glm::vec3& p, double tSec, double dtSec) const;
+  // Speed of the moving object (m/s) at t, 0 for static scenes.
+  float objectSpeed(double tSec) const;
+
+  std::function<DrawList(double)> draws;
+  std::function<glm::vec3(double)> offset;
+  std::function<glm::mat4(double)> movingModel;  // model matrix of the moving quad, if any
+};
+
+const std::vector<std::string>& sceneNames();
+// `picture` is used by the image-viewer scenes (imageviewer, noisy); textures must hold it.
+bool makeScene(const std::string& name, const std::string& picture, const TextureSet& textures, Scene* out,
+               std::string* error);
+
+}  // namespace steadyxr::eval

@@ -1,0 +1,37 @@
+// The evaluation suite: scenarios (scene x head motion [x picture]) x methods, per frame:
+// render at the frame's head pose (both eyes) -> filter core -> display stage -> metrics.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace steadyxr::eval {
+
+struct Options {
+  std::vector<std::string> scenes;   // empty: the default suite's scenario list
+  std::vector<std::string> motions;  // presets: fixation, pursuit, fastturn, sequence
+  std::vector<std::string> traces;   // trace CSV files (imu::loadTrace)
+  std::vector<std::string> images;   // pictures for the image-viewer scenes (paths or skimage names)
+  std::vector<std::string> methods;  // empty: all (see --help)
+  int width = 256;
+  int height = 256;
+  int frames = 60;
+  uint64_t seed = 1;
+  std::string outDir = "out";
+  double appHz = 30.0;
+  double displayHz = 90.0;
+  double startSec = 0.0;
+  int gtGrid = 4;               // ground truth: gtGrid^2 jittered samples per pixel
+  int warpSteps = 6;            // seed 004 study: extrapolate up to this many display frames
+  float errorThreshold = 0.1f;  // seed 004 error-pixel threshold (any channel, [0, 1] scale)
+  bool sweeps = true;
+  bool progress = true;
+  bool validation = false;
+  bool quick = false;
+};
+
+// Returns the process exit code (0 on success).
+int runSuite(const Options& options);
+
+}  // namespace steadyxr::eval
