@@ -23,8 +23,9 @@ namespace {
 class Registry {
  public:
   void addInstance(std::shared_ptr<InstanceState> s) {
+    const XrInstance h = s->handle;
     std::lock_guard lock(m_);
-    instances_[s->handle] = std::move(s);
+    instances_[h] = std::move(s);
   }
   std::shared_ptr<InstanceState> instance(XrInstance h) {
     std::lock_guard lock(m_);
@@ -53,8 +54,9 @@ class Registry {
     return orphans;
   }
   void addSession(const InstanceState* inst, std::shared_ptr<Session> s) {
+    const XrSession h = s->handle();  // read before the move below
     std::lock_guard lock(m_);
-    sessions_[s->handle()] = {inst, std::move(s)};
+    sessions_[h] = {inst, std::move(s)};
   }
   std::shared_ptr<Session> session(XrSession h) {
     std::lock_guard lock(m_);
@@ -238,12 +240,27 @@ XRAPI_ATTR XrResult XRAPI_CALL hookCreateVulkanInstanceKHR(XrInstance instance,
   return guarded([&] {
     std::shared_ptr<InstanceState> inst = registry().instance(instance);
     if (!inst || inst->next.createVulkanInstanceKHR == nullptr) return XR_ERROR_HANDLE_INVALID;
-    const XrResult r = inst->next.createVulkanInstanceKHR(instance, info, vkInstance, vkResult);
-    // The filter may only use Vulkan functions of the version the app asked for.
-    if (XR_SUCCEEDED(r) && info && info->vulkanCreateInfo && info->vulkanCreateInfo->pApplicationInfo) {
-      const uint32_t v = info->vulkanCreateInfo->pApplicationInfo->apiVersion;
-      inst->vulkanApiVersion = v == 0 ? VK_API_VERSION_1_0 : v;
+    // The filter core needs Vulkan 1.1: ask for it when the app asks for less (a later version
+    // changes nothing for an app written against 1.0). Fall back to the app's request.
+    const VkApplicationInfo* appInfo = (info && info->vulkanCreateInfo) ? info->vulkanCreateInfo->pApplicationInfo : nullptr;
+    const uint32_t asked = (appInfo == nullptr || appInfo->apiVersion == 0) ? VK_API_VERSION_1_0 : appInfo->apiVersion;
+    XrResult r = XR_ERROR_RUNTIME_FAILURE;
+    if (inst->config.enabled && asked < VK_API_VERSION_1_1) {
+      VkApplicationInfo ai = appInfo ? *appInfo : makeVk<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
+      ai.apiVersion = VK_API_VERSION_1_1;
+      VkInstanceCreateInfo ci = *info->vulkanCreateInfo;
+      ci.pApplicationInfo = &ai;
+      XrVulkanInstanceCreateInfoKHR xi = *info;
+      xi.vulkanCreateInfo = &ci;
+      r = inst->next.createVulkanInstanceKHR(instance, &xi, vkInstance, vkResult);
+      if (XR_SUCCEEDED(r) && vkResult && *vkResult == VK_SUCCESS) {
+        inst->vulkanApiVersion = VK_API_VERSION_1_1;
+        return r;
+      }
+      inst->log->log(LogLevel::Warn, "could not create the Vulkan instance as 1.1; filtering may be unavailable");
     }
+    r = inst->next.createVulkanInstanceKHR(instance, info, vkInstance, vkResult);
+    if (XR_SUCCEEDED(r)) inst->vulkanApiVersion = asked;
     return r;
   });
 }

@@ -109,6 +109,7 @@ Session::Session(std::shared_ptr<InstanceState> instance, XrSession handle,
     log.log(LogLevel::Info, "session is not a Vulkan session: passing everything through");
     return;
   }
+  vulkanSession_ = true;
   binding_ = *vulkan;
   binding_.next = nullptr;
   filtering_ = initFilter();
@@ -167,7 +168,7 @@ void Session::shutdown() {
   viewSpace_ = XR_NULL_HANDLE;
   filter_.reset();
   vk_.reset();
-  if (filtering_) instance_->log->log(LogLevel::Info, stats_.summary());
+  if (vulkanSession_) instance_->log->log(LogLevel::Info, stats_.summary());
 }
 
 std::string Session::xrError(const char* what, XrResult r) const {
@@ -252,6 +253,17 @@ XrResult Session::release(XrSwapchain swapchain, const XrSwapchainImageReleaseIn
     }
   }
   return r;
+}
+
+void Session::countUnfiltered(const XrFrameEndInfo& info) {
+  std::lock_guard lock(mutex_);
+  for (uint32_t i = 0; i < info.layerCount; ++i) {
+    if (info.layers[i] != nullptr && info.layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
+      ++stats_.passed[static_cast<size_t>(failedReason_)];
+      return;
+    }
+  }
+  ++stats_.framesEmpty;
 }
 
 void Session::passed(PassReason reason, const std::string& detail) {
@@ -361,6 +373,7 @@ std::optional<PassReason> Session::filterProjection(const XrCompositionLayerProj
         // An image that was not waited for cannot be released: stop filtering this session.
         log.log(LogLevel::Error, xrError("xrWaitSwapchainImage (layer output)", r) + "; filtering stops");
         filtering_ = false;
+        failedReason_ = PassReason::XrError;
         failure = PassReason::XrError;
         break;
       }
@@ -448,7 +461,10 @@ std::optional<PassReason> Session::filterProjection(const XrCompositionLayerProj
 }
 
 XrResult Session::endFrame(const XrFrameEndInfo* info) {
-  if (info == nullptr || !filtering_) return next().endFrame(handle_, info);
+  if (info == nullptr || !filtering_) {
+    if (info != nullptr && vulkanSession_) countUnfiltered(*info);
+    return next().endFrame(handle_, info);
+  }
   std::unique_lock lock(mutex_);
   if (!filtering_ || shutDown_) {
     lock.unlock();

@@ -125,11 +125,14 @@ class Session {
                                              std::vector<XrSwapchain>* outputs);
   float headSpeed(const XrCompositionLayerProjection& layer, int64_t displayTime);
   void passed(PassReason reason, const std::string& detail);
+  void countUnfiltered(const XrFrameEndInfo& info);
   std::string xrError(const char* what, XrResult r) const;
 
   std::shared_ptr<InstanceState> instance_;
   XrSession handle_;
   bool filtering_ = false;
+  bool vulkanSession_ = false;
+  PassReason failedReason_ = PassReason::FilterError;  // why filtering_ is off in a Vulkan session
   bool shutDown_ = false;
   XrGraphicsBindingVulkanKHR binding_{};
   std::mutex mutex_;

@@ -1,0 +1,210 @@
+#!/usr/bin/env bash
+# End-to-end test of the steadyxr OpenXR layer: real OpenXR loader, real Monado 25, real
+# hello_xr 1.1.47, real Vulkan (lavapipe), with Khronos' core_validation layer behind ours.
+# Everything runs inside a cached Debian trixie root (see ensure_root.sh).
+#
+#   run_e2e.sh LAYER_SO PNG_COMPARE OUT_DIR
+#
+# Environment: STEADYXR_CACHE_DIR (root cache, default ~/.cache/steadyxr), STEADYXR_E2E_SECONDS
+# (length of each hello_xr run, default 8), STEADYXR_E2E_XVFB=0 skips the main-compositor run.
+# Exit: 0 pass, 1 fail, 77 skipped (no debootstrap / no Debian mirror).
+set -uo pipefail
+
+layer_so=$(readlink -f "${1:?layer .so}")
+png_compare=$(readlink -f "${2:?png_compare}")
+out=${3:?output dir}
+seconds=${STEADYXR_E2E_SECONDS:-8}
+here=$(cd "$(dirname "$0")" && pwd)
+layer_name=XR_APILAYER_STEADYXR_head_taa
+
+rm -rf "$out"
+mkdir -p "$out"
+out=$(readlink -f "$out")
+
+root=$("$here/ensure_root.sh")
+rc=$?
+if ((rc == 77)); then
+  echo "SKIP: cannot build the trixie root (no debootstrap, not root, or no Debian mirror)"
+  exit 77
+elif ((rc != 0)) || [[ ! -d $root ]]; then
+  echo "FAIL: building the trixie root failed"
+  exit 1
+fi
+
+# Per-run folder inside the root (no bind mounts): the layer, its manifest, logs, dumps.
+tag=steadyxr-e2e-$$
+inroot=/tmp/$tag
+host=$root$inroot
+mkdir -p "$host/layer"
+cp "$layer_so" "$host/layer/"
+cat >"$host/layer/XrApiLayer_steadyxr.json" <<JSON
+{
+    "file_format_version": "1.0.0",
+    "api_layer": {
+        "name": "$layer_name",
+        "library_path": "$inroot/layer/$(basename "$layer_so")",
+        "api_version": "1.0",
+        "implementation_version": "1",
+        "description": "steadyxr (end-to-end test copy)"
+    }
+}
+JSON
+
+pids=()
+cleanup() {
+  # Stop only what this script started, by PID.
+  for pid in "${pids[@]}"; do
+    kill -TERM "$pid" 2>/dev/null || true
+  done
+  for pid in "${pids[@]}"; do
+    for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+    kill -KILL "$pid" 2>/dev/null || true
+    wait "$pid" 2>/dev/null || true
+  done
+  pids=()
+}
+cleanup_all() {
+  cleanup
+  rm -rf "$host"
+}
+trap cleanup_all EXIT
+
+missing=$(chroot "$root" /usr/bin/ldd "$inroot/layer/$(basename "$layer_so")" 2>&1 | grep "not found" || true)
+if [[ -n $missing ]]; then
+  echo "FAIL: the layer cannot load inside the trixie root: $missing"
+  exit 1
+fi
+
+base_env=(PATH=/usr/sbin:/usr/bin:/sbin:/bin HOME=/root VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json
+  VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.json XR_RUNTIME_JSON=/usr/share/openxr/1/openxr_monado.json
+  XRT_NO_STDIN=1)
+failures=0
+fail() {
+  echo "FAIL[$case_name]: $*"
+  failures=$((failures + 1))
+}
+
+# run_case NAME METHOD COMPOSITOR(null|xcb) DUMP_FRAMES
+run_case() {
+  case_name=$1
+  local method=$2 compositor=$3 dump=$4
+  local dir=$inroot/$case_name hdir=$host/$case_name
+  mkdir -p "$hdir/xdg" "$hdir/dump"
+  chmod 700 "$hdir/xdg"
+  local env=("${base_env[@]}" XDG_RUNTIME_DIR=$dir/xdg)
+  if [[ $compositor == xcb ]]; then
+    local display=:$((90 + $$ % 9))
+    chroot "$root" /usr/bin/env -i "${env[@]}" Xvfb "$display" -screen 0 1920x1080x24 -nolisten tcp \
+      >"$hdir/xvfb.log" 2>&1 &
+    pids+=($!)
+    sleep 1
+    env+=(DISPLAY=$display XRT_COMPOSITOR_FORCE_XCB=1)
+  else
+    env+=(XRT_COMPOSITOR_NULL=1)
+  fi
+  chroot "$root" /usr/bin/env -i "${env[@]}" monado-service >"$hdir/monado.log" 2>&1 &
+  local monado=$!
+  pids+=("$monado")
+  local started=0
+  for _ in $(seq 300); do
+    if grep -q "The Monado service has started" "$hdir/monado.log"; then started=1; break; fi
+    kill -0 "$monado" 2>/dev/null || break
+    sleep 0.1
+  done
+  if ((started == 0)); then
+    fail "monado-service did not start; log:"
+    tail -n 20 "$hdir/monado.log"
+    cleanup
+    return
+  fi
+  # hello_xr exits cleanly when its standard input closes: a clean N-second run.
+  sleep "$seconds" | timeout --kill-after=10 $((seconds + 90)) chroot "$root" /usr/bin/env -i "${env[@]}" \
+    XR_API_LAYER_PATH="$inroot/layer:/usr/share/openxr/1/api_layers/explicit.d" \
+    XR_ENABLE_API_LAYERS="$layer_name:XR_APILAYER_LUNARG_core_validation" \
+    XR_CORE_VALIDATION_EXPORT_TYPE=text XR_CORE_VALIDATION_FILE_NAME="$dir/core_validation.txt" \
+    STEADYXR_METHOD="$method" STEADYXR_DUMP_FRAMES="$dump" STEADYXR_DUMP_DIR="$dir/dump" STEADYXR_LOG_LEVEL=info \
+    hello_xr -g Vulkan2 -vc Stereo >"$hdir/hello_xr.log" 2>&1
+  local app_rc=${PIPESTATUS[1]}
+  cleanup
+  cp -r "$hdir" "$out/"
+
+  local summary
+  summary=$(grep -a "session summary:" "$hdir/hello_xr.log" | tail -n 1)
+  echo "[$case_name] hello_xr exit $app_rc; $summary"
+  ((app_rc == 0)) || { fail "hello_xr exited $app_rc"; tail -n 30 "$hdir/hello_xr.log"; }
+  [[ -n $summary ]] || { fail "no session summary from the layer (did it load?)"; return; }
+  local filtered left right passed
+  filtered=$(sed -n 's/.*frames_filtered=\([0-9]*\).*/\1/p' <<<"$summary")
+  left=$(sed -n 's/.* left=\([0-9]*\).*/\1/p' <<<"$summary")
+  right=$(sed -n 's/.* right=\([0-9]*\).*/\1/p' <<<"$summary")
+  passed=$(sed -n 's/.*frames_passed_through=\([0-9]*\).*/\1/p' <<<"$summary")
+  ((left >= 40 && right >= 40)) || fail "filtered too few frames (left=$left right=$right, want >= 40)"
+  ((passed == 0)) || fail "$passed frames passed through"
+  local cv=$hdir/core_validation.txt
+  if [[ ! -f $cv ]]; then
+    fail "core_validation wrote no report (not loaded?)"
+  elif grep -qE "VALID_ERROR" "$cv"; then
+    fail "core_validation reported errors:"
+    grep -E "VALID_ERROR" "$cv" | head -n 10
+  else
+    echo "[$case_name] core_validation: no errors ($(wc -l <"$cv") report lines)"
+  fi
+  echo "$case_name filtered=$filtered left=$left right=$right passed=$passed rc=$app_rc" >>"$out/results.txt"
+}
+
+# Dumped frames: input and output of each eye.
+check_equal() {
+  local dir=$host/$1/dump n=0
+  for in in "$dir"/*_in.png; do
+    [[ -f $in ]] || continue
+    n=$((n + 1))
+    if ! r=$("$png_compare" equal "$in" "${in%_in.png}_out.png"); then
+      fail "output differs from input with method none: $(basename "$in"): $r"
+    fi
+  done
+  ((n > 0)) || fail "no dumped images"
+  echo "[$1] method none: $n dumped eye images, output == input"
+}
+
+check_changes() {
+  local dir=$host/$1/dump n=0 differ_total=0 outside_total=0 changed_total=0 total=0
+  for eye in left right; do
+    local prev=""
+    for in in "$dir"/frame*_"$eye"_in.png; do
+      [[ -f $in ]] || continue
+      if [[ -n $prev ]]; then
+        local r
+        r=$("$png_compare" changes "$prev" "$in" "${in%_in.png}_out.png" 2 2) || fail "png_compare failed on $in"
+        echo "[$1] $(basename "$in"): $r"
+        differ_total=$((differ_total + $(sed -n 's/.*differ=\([0-9]*\).*/\1/p' <<<"$r")))
+        outside_total=$((outside_total + $(sed -n 's/.*outside=\([0-9]*\).*/\1/p' <<<"$r")))
+        changed_total=$((changed_total + $(sed -n 's/.*changed=\([0-9]*\).*/\1/p' <<<"$r")))
+        total=$((total + $(sed -n 's/.*total=\([0-9]*\).*/\1/p' <<<"$r")))
+        n=$((n + 1))
+      fi
+      prev=$in
+    done
+  done
+  ((n > 0)) || { fail "no dumped frame pairs"; return; }
+  echo "[$1] default method over $n frame pairs: differ=$differ_total outside_changed_region=$outside_total changed=$changed_total pixels=$total" |
+    tee -a "$out/results.txt"
+  # Where the input did not change between frames, a converged temporal filter must not change it.
+  ((outside_total * 1000 <= total)) || fail "output differs from input outside the changing region ($outside_total of $total pixels)"
+  if ((changed_total > 0 && differ_total == 0)); then
+    fail "the input changed between frames but the default method never changed the output"
+  fi
+}
+
+run_case none none null 8
+check_equal none
+run_case default default null 8
+check_changes default
+if [[ ${STEADYXR_E2E_XVFB:-1} != 0 ]]; then
+  run_case xvfb default xcb 0
+fi
+
+if ((failures > 0)); then
+  echo "e2e: $failures failure(s); logs in $out"
+  exit 1
+fi
+echo "e2e: PASS; logs in $out"
