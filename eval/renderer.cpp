@@ -70,7 +70,8 @@ struct SceneRenderer::Impl {
   UniquePipeline basePipeline;
   std::array<GpuImage, 2> baseColor, baseDepth;
   std::array<UniqueFramebuffer, 2> baseFb;
-  // MSAA, index 0 = 2x, 1 = 4x.
+  // MSAA, index 0 = 2x, 1 = 4x (lavapipe offers 4x only).
+  std::array<bool, 2> msaaSupported{false, false};
   std::array<UniqueRenderPass, 2> msaaPass;
   std::array<UniquePipeline, 2> msaaPipeline;
   std::array<GpuImage, 2> msaaColor, msaaDepth;
@@ -580,6 +581,10 @@ struct SceneRenderer::Impl {
       textureSets.push_back(set);
     }
 
+    const VkPhysicalDeviceLimits& limits = ctx.properties().limits;
+    const VkSampleCountFlags counts =
+        limits.framebufferColorSampleCounts & limits.framebufferDepthSampleCounts;
+    msaaSupported = {(counts & VK_SAMPLE_COUNT_2_BIT) != 0, (counts & VK_SAMPLE_COUNT_4_BIT) != 0};
     const uint32_t w = uint32_t(width), h = uint32_t(height);
     if (!makeRenderPass(kColorFormat, VK_SAMPLE_COUNT_1_BIT, true, &basePass, error) ||
         !makePipeline(basePass.get(), VK_SAMPLE_COUNT_1_BIT, false, &basePipeline, error)) {
@@ -606,6 +611,7 @@ struct SceneRenderer::Impl {
       }
     }
     for (int i = 0; i < 2; ++i) {
+      if (!msaaSupported[i]) continue;
       const VkSampleCountFlagBits sc = i == 0 ? VK_SAMPLE_COUNT_2_BIT : VK_SAMPLE_COUNT_4_BIT;
       if (!makeRenderPass(kColorFormat, sc, false, &msaaPass[i], error) ||
           !makePipeline(msaaPass[i].get(), sc, false, &msaaPipeline[i], error) ||
@@ -645,8 +651,9 @@ struct SceneRenderer::Impl {
       toGeneral(baseColor[eye].image.get(), VK_IMAGE_ASPECT_COLOR_BIT);
       toGeneral(baseDepth[eye].image.get(), VK_IMAGE_ASPECT_DEPTH_BIT);
       toGeneral(outputs[eye].image.get(), VK_IMAGE_ASPECT_COLOR_BIT);
-      toGeneral(msaaResolve[0][eye].image.get(), VK_IMAGE_ASPECT_COLOR_BIT);
-      toGeneral(msaaResolve[1][eye].image.get(), VK_IMAGE_ASPECT_COLOR_BIT);
+      for (int i = 0; i < 2; ++i) {
+        if (msaaSupported[i]) toGeneral(msaaResolve[i][eye].image.get(), VK_IMAGE_ASPECT_COLOR_BIT);
+      }
     }
     return submitAndWait(error);
   }
@@ -756,10 +763,18 @@ bool SceneRenderer::renderBase(int eye, const EyeCamera& cam, const DrawList& dr
   return true;
 }
 
+bool SceneRenderer::supportsSamples(int samples) const {
+  return samples == 1 || ((samples == 2 || samples == 4) && impl_->msaaSupported[samples == 2 ? 0 : 1]);
+}
+
 bool SceneRenderer::renderMsaa(int samples, int eye, const EyeCamera& cam, const DrawList& draws, Image* out,
                                double* gpuMs, std::string* error) {
   Impl& m = *impl_;
   const int i = samples == 2 ? 0 : 1;
+  if (!supportsSamples(samples)) {
+    *error = std::to_string(samples) + "x MSAA is not supported by this device";
+    return false;
+  }
   if (!m.beginImpl(error)) return false;
   if (m.timestamps) vkCmdResetQueryPool(m.cmd, m.queries.get(), 0, 2);
   m.timestamp(0, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT);

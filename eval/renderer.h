@@ -51,6 +51,7 @@ class SceneRenderer {
   // gpuMs gets the render's GPU time (timestamps) when supported, else stays unchanged.
   bool renderBase(int eye, const EyeCamera& cam, const DrawList& draws, RenderedView* out, double* gpuMs,
                   std::string* error);
+  bool supportsSamples(int samples) const;  // framebuffer colour and depth sample counts
   // samples = 2 or 4; resolved into eye `eye`'s MSAA target of that sample count.
   bool renderMsaa(int samples, int eye, const EyeCamera& cam, const DrawList& draws, Image* out,
                   double* gpuMs, std::string* error);

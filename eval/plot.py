@@ -1,0 +1,156 @@
+#!/usr/bin/env python3
+"""Charts from steadyxr-eval's CSV output: python3 eval/plot.py OUT_DIR
+
+Writes OUT_DIR/charts/:
+  pareto_<scenario>.png     accuracy (RMSE, MTCD) against cost, one point per method/setting,
+                            Pareto front drawn
+  timeseries_<scenario>.png MTCD and RMSE per frame (fast-turn, moving-object and pursuit scenarios)
+  warp_errors.png           seed 004 error pixels against extrapolation time and head/object speed
+"""
+import csv
+import math
+import os
+import sys
+
+try:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+except ImportError:  # e.g. a pyenv python first on PATH: fall back to Debian's python3-matplotlib
+    if os.path.exists("/usr/bin/python3") and os.path.realpath(sys.executable) != os.path.realpath("/usr/bin/python3"):
+        os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
+    raise
+
+MAIN_METHODS = ["none", "fxaa", "msaa4", "taa", "hmtaa", "vtaa", "default"]
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def num(v):
+    try:
+        x = float(v)
+        return x if math.isfinite(x) else None
+    except (TypeError, ValueError):
+        return None
+
+
+def pareto(points):
+    """Non-dominated points (lower cost and lower error are better), sorted by cost."""
+    front, best = [], float("inf")
+    for c, e, name in sorted(points):
+        if e < best:
+            front.append((c, e, name))
+            best = e
+    return front
+
+
+def plot_pareto(rows, charts):
+    for scenario in sorted({r["scenario"] for r in rows}):
+        sub = [r for r in rows if r["scenario"] == scenario]
+        fig, axes = plt.subplots(1, 2, figsize=(13, 5))
+        for ax, metric, label in ((axes[0], "rmse", "RMSE vs ground truth"), (axes[1], "mtcd", "MTCD (8-bit units)")):
+            pts = [(num(r["cost_ms"]), num(r[metric]), r["method"]) for r in sub]
+            pts = [p for p in pts if p[0] is not None and p[1] is not None]
+            for c, e, name in pts:
+                sweep = "@" in name
+                ax.scatter([c], [e], s=18 if sweep else 36, marker="x" if sweep else "o",
+                           color="gray" if sweep else ("tab:red" if name.startswith("default") else "tab:blue"))
+                ax.annotate(name, (c, e), fontsize=6, xytext=(3, 2), textcoords="offset points")
+            front = pareto(pts)
+            if front:
+                ax.plot([p[0] for p in front], [p[1] for p in front], "-", color="tab:green", lw=1.2,
+                        label="Pareto front")
+                ax.legend(fontsize=8)
+            ax.set_xlabel("cost: filter GPU ms + extra render ms (both eyes, lavapipe)")
+            ax.set_ylabel(label)
+            ax.grid(alpha=0.3)
+        fig.suptitle(f"{scenario}: accuracy against cost")
+        fig.tight_layout()
+        fig.savefig(os.path.join(charts, f"pareto_{scenario}.png"), dpi=110)
+        plt.close(fig)
+
+
+def plot_timeseries(series, charts):
+    scenarios = sorted({r["scenario"] for r in series})
+    wanted = [s for s in scenarios if "fastturn" in s or s.startswith("moving") or "pursuit" in s] or scenarios[:1]
+    for scenario in wanted:
+        sub = [r for r in series if r["scenario"] == scenario]
+        fig, axes = plt.subplots(3, 1, figsize=(10, 9), sharex=True)
+        for m in MAIN_METHODS:
+            rows = [r for r in sub if r["method"] == m]
+            if not rows:
+                continue
+            t = [num(r["t_s"]) for r in rows]
+            axes[0].plot(t, [num(r["mtcd"]) for r in rows], label=m, lw=1)
+            axes[1].plot(t, [num(r["rmse"]) for r in rows], label=m, lw=1)
+        first = [r for r in sub if r["method"] == sub[0]["method"]] if sub else []
+        axes[2].plot([num(r["t_s"]) for r in first], [num(r["head_speed_deg_s"]) for r in first], color="k",
+                     label="head speed (deg/s)")
+        ax2 = axes[2].twinx()
+        ax2.plot([num(r["t_s"]) for r in first], [num(r["object_speed_m_s"]) for r in first], color="tab:orange",
+                 label="object speed (m/s)")
+        axes[0].set_ylabel("MTCD (8-bit)")
+        axes[1].set_ylabel("RMSE vs GT")
+        axes[2].set_ylabel("head speed deg/s")
+        ax2.set_ylabel("object speed m/s")
+        axes[2].set_xlabel("time (s)")
+        axes[0].legend(fontsize=8, ncol=4)
+        for ax in axes:
+            ax.grid(alpha=0.3)
+        fig.suptitle(f"{scenario}: per-frame MTCD and RMSE")
+        fig.tight_layout()
+        fig.savefig(os.path.join(charts, f"timeseries_{scenario}.png"), dpi=110)
+        plt.close(fig)
+
+
+def plot_warp(warp, charts):
+    if not warp:
+        return
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5))
+    for scenario in sorted({r["scenario"] for r in warp}):
+        for mode, style in (("timewarp", "--"), ("depthwarp", "-")):
+            sub = [r for r in warp if r["scenario"] == scenario and r["mode"] == mode]
+            steps = sorted({int(r["step"]) for r in sub})
+            xs, ys = [], []
+            for k in steps:
+                vals = [num(r["error_pixels"]) for r in sub if int(r["step"]) == k]
+                xs.append(num(next(r["extrapolation_ms"] for r in sub if int(r["step"]) == k)))
+                ys.append(sum(vals) / len(vals))
+            axes[0].plot(xs, ys, style, marker="o", ms=3, label=f"{scenario} {mode}")
+    axes[0].set_xlabel("extrapolation time (ms)")
+    axes[0].set_ylabel("error pixels (mean over frames, left eye)")
+    axes[0].set_title("seed 004 error pixels vs extrapolation time")
+    axes[0].legend(fontsize=6)
+    axes[0].grid(alpha=0.3)
+    # Against speed: the largest extrapolation step, every frame of every scenario.
+    kmax = max(int(r["step"]) for r in warp)
+    for mode, color in (("timewarp", "tab:blue"), ("depthwarp", "tab:red")):
+        sub = [r for r in warp if r["mode"] == mode and int(r["step"]) == kmax]
+        speed = [num(r["head_speed_deg_s"]) + 40.0 * num(r["object_speed_m_s"]) for r in sub]
+        axes[1].scatter(speed, [num(r["error_pixels"]) for r in sub], s=6, color=color, alpha=0.5, label=mode)
+    axes[1].set_xlabel("head speed (deg/s) + 40 x object speed (m/s)  [~deg/s at 1.5 m]")
+    axes[1].set_ylabel(f"error pixels at step {kmax}")
+    axes[1].set_title("error pixels vs speed")
+    axes[1].legend(fontsize=8)
+    axes[1].grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(charts, "warp_errors.png"), dpi=110)
+    plt.close(fig)
+
+
+def main():
+    out = sys.argv[1] if len(sys.argv) > 1 else "out"
+    charts = os.path.join(out, "charts")
+    os.makedirs(charts, exist_ok=True)
+    plot_pareto(read_csv(os.path.join(out, "results.csv")), charts)
+    plot_timeseries(read_csv(os.path.join(out, "timeseries.csv")), charts)
+    plot_warp(read_csv(os.path.join(out, "warp_errors.csv")), charts)
+    print(f"charts written to {charts}")
+
+
+if __name__ == "__main__":
+    main()
