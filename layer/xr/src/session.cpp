@@ -430,6 +430,18 @@ std::optional<PassReason> Session::filterProjection(const XrCompositionLayerProj
 
   if (!failure) {
     frame.headSpeedDegPerSec = headSpeed(layer, displayTime);
+    if (log.enabled(LogLevel::Debug) && stats_.framesFiltered < 10) {
+      const XrPosef& p = layer.views[0].pose;
+      const XrFovf& f = layer.views[0].fov;
+      char buf[256];
+      std::snprintf(buf, sizeof buf,
+                    "frame %llu t=%lld view0 q=(%.6f %.6f %.6f %.6f) p=(%.4f %.4f %.4f) fov=(%.4f %.4f %.4f %.4f) "
+                    "speed=%.3f deg/s",
+                    static_cast<unsigned long long>(stats_.framesFiltered), static_cast<long long>(displayTime),
+                    p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z, p.position.x, p.position.y,
+                    p.position.z, f.angleLeft, f.angleRight, f.angleUp, f.angleDown, frame.headSpeedDegPerSec);
+      log.log(LogLevel::Debug, buf);
+    }
     std::string error;
     if (!filter_->submit(frame, output, &error)) {
       log.once(LogLevel::Warn, "filter-submit", "filter: " + error);

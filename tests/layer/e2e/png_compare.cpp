@@ -1,10 +1,10 @@
 // Compares the layer's dumped eye images (PNG) for the end-to-end test.
 //   png_compare equal A.png B.png
 //       exit 0 when the RGB pixels are identical; prints the largest channel difference.
-//   png_compare changes PREV_IN.png IN.png OUT.png [tolerance] [dilate]
-//       prints "differ=N outside=N changed=N total=N": pixels where OUT differs from IN, those of
-//       them outside the region where the input changed between frames (grown by `dilate`
-//       pixels), the changed region's size, and the image size.
+//   png_compare changes TOLERANCE DILATE IN.png OUT.png PREV_IN.png...
+//       prints "differ=N outside=N changed=N total=N": pixels where OUT differs from IN (by more
+//       than TOLERANCE in a channel), those of them outside the region where IN differs from any
+//       earlier input (grown by DILATE pixels), that region's size, and the image size.
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_STATIC
 #include <stb_image.h>
@@ -41,7 +41,7 @@ bool load(const char* path, Image* out) {
 }
 
 int usage() {
-  std::fprintf(stderr, "usage: png_compare equal A B | changes PREV_IN IN OUT [tolerance] [dilate]\n");
+  std::fprintf(stderr, "usage: png_compare equal A B | changes TOLERANCE DILATE IN OUT PREV...\n");
   return 2;
 }
 
@@ -67,22 +67,26 @@ int main(int argc, char** argv) {
     std::printf("max_diff=%d differ=%zu total=%zu\n", maxDiff, count, size_t(a.w) * a.h);
     return maxDiff == 0 ? 0 : 1;
   }
-  if (mode == "changes" && (argc >= 5 && argc <= 7)) {
-    Image prev, in, out;
-    if (!load(argv[2], &prev) || !load(argv[3], &in) || !load(argv[4], &out)) return 2;
-    const int tol = argc > 5 ? std::atoi(argv[5]) : 2;
-    const int grow = argc > 6 ? std::atoi(argv[6]) : 2;
-    if (prev.w != in.w || prev.h != in.h || out.w != in.w || out.h != in.h) return 2;
+  if (mode == "changes" && argc >= 7) {
+    const int tol = std::atoi(argv[2]);
+    const int grow = std::atoi(argv[3]);
+    Image in, out;
+    if (!load(argv[4], &in) || !load(argv[5], &out)) return 2;
+    if (out.w != in.w || out.h != in.h) return 2;
     const int w = in.w, h = in.h;
+    // Changed region: pixels where this input differs from any earlier input (history may
+    // still carry what was there a few frames ago).
     std::vector<unsigned char> changed(size_t(w) * h, 0), near(size_t(w) * h, 0);
-    size_t changedCount = 0;
-    for (size_t p = 0; p < changed.size(); ++p) {
-      changed[p] = in.diff(prev, p) > tol;
-      changedCount += changed[p];
+    for (int a = 6; a < argc; ++a) {
+      Image prev;
+      if (!load(argv[a], &prev) || prev.w != w || prev.h != h) return 2;
+      for (size_t p = 0; p < changed.size(); ++p) changed[p] |= in.diff(prev, p) > tol;
     }
+    size_t changedCount = 0;
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) {
         if (!changed[size_t(y) * w + x]) continue;
+        ++changedCount;
         for (int dy = -grow; dy <= grow; ++dy) {
           for (int dx = -grow; dx <= grow; ++dx) {
             const int xx = x + dx, yy = y + dy;

