@@ -910,13 +910,18 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
     b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
     b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
     b.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-    b.oldLayout = b.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+    b.oldLayout = VK_IMAGE_LAYOUT_GENERAL;
+    b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
     toCopy.push_back(b);
+    b.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;  // back to GENERAL for the next frame's writes
+    b.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    std::swap(b.oldLayout, b.newLayout);
+    post.push_back(b);
   }
-  if (ok && !toCopy.empty()) {
+  if (!toCopy.empty()) {  // always: post[] turns these layouts back
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
                          nullptr, 0, nullptr, static_cast<uint32_t>(toCopy.size()), toCopy.data());
-    for (uint32_t e = 0; e < n; ++e) {
+    for (uint32_t e = 0; e < n && ok; ++e) {
       if (!targets[e].scratch) continue;
       const ImageRef& out = output.views[e];
       VkImageCopy region{};
@@ -924,7 +929,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
       region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, out.arrayLayer, 1};
       region.dstOffset = {out.rect.offset.x, out.rect.offset.y, 0};
       region.extent = {out.rect.extent.width, out.rect.extent.height, 1};
-      vkCmdCopyImage(cmd, targets[e].scratch->image.get(), VK_IMAGE_LAYOUT_GENERAL, out.image,
+      vkCmdCopyImage(cmd, targets[e].scratch->image.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, out.image,
                      VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
     }
   }

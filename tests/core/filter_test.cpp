@@ -1,0 +1,612 @@
+// The filter on real Vulkan (lavapipe) with VK_LAYER_KHRONOS_validation: every pass against the
+// CPU reference, and the properties the issue asks for. Zero validation messages per test.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <glm/gtc/packing.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <random>
+
+#include "gpu_image.h"
+#include "reference.h"
+#include "steadyxr/core/filter.h"
+#include "steadyxr/core/view_math.h"
+
+using namespace steadyxr;
+using namespace steadyxr::core;
+using test::GpuImage;
+using test::HostImage;
+using test::RefView;
+
+namespace {
+
+constexpr float kDeg = 3.14159265358979f / 180.0f;
+
+VulkanContext* gCtx = nullptr;
+
+struct Frame {
+  std::array<HostImage, 2> color;
+  std::array<RefView, 2> views;
+  std::array<HostImage, 2> depth{};  // empty = none
+  float headSpeed = 0.0f;
+  bool reset = false;
+};
+
+// Per-eye input/output images of one size; runs frames through a Filter and reads outputs back.
+class Rig {
+ public:
+  Rig(uint32_t w, uint32_t h, VkFormat inFmt = VK_FORMAT_R16G16B16A16_SFLOAT,
+      VkFormat outFmt = VK_FORMAT_R16G16B16A16_SFLOAT,
+      VkImageUsageFlags outUsage = VK_IMAGE_USAGE_STORAGE_BIT, bool outMutable = false)
+      : w_(w), h_(h) {
+    for (int e = 0; e < 2; ++e) {
+      in_[e] = std::make_unique<GpuImage>(*gCtx, inFmt, w, h, 1, VK_IMAGE_USAGE_SAMPLED_BIT);
+      out_[e] = std::make_unique<GpuImage>(*gCtx, outFmt, w, h, 1, outUsage, outMutable);
+      depth_[e] =
+          std::make_unique<GpuImage>(*gCtx, VK_FORMAT_D32_SFLOAT, w, h, 1, VK_IMAGE_USAGE_SAMPLED_BIT);
+    }
+  }
+  std::array<HostImage, 2> run(Filter& f, const Frame& fr, uint32_t viewCount = 2) {
+    StereoFrame sf;
+    StereoOutput so;
+    sf.viewCount = viewCount;
+    sf.headSpeedDegPerSec = fr.headSpeed;
+    sf.reset = fr.reset;
+    for (uint32_t e = 0; e < viewCount; ++e) {
+      in_[e]->upload(fr.color[e], 0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+      sf.views[e].color = in_[e]->ref(0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+      sf.views[e].pose = fr.views[e].pose;
+      sf.views[e].fov = fr.views[e].fov;
+      if (!fr.depth[e].px.empty()) {
+        depth_[e]->upload(fr.depth[e], 0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        DepthRef d;
+        d.image = depth_[e]->ref(0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        d.nearZ = 0.1f;
+        d.farZ = 100.0f;
+        sf.views[e].depth = d;
+      }
+      so.views[e] = out_[e]->ref(0, outLayout_);
+      so.views[e].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    }
+    std::string err;
+    EXPECT_TRUE(f.submit(sf, so, &err)) << err;
+    f.waitIdle();
+    outLayout_ = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    std::array<HostImage, 2> result;
+    for (uint32_t e = 0; e < viewCount; ++e)
+      result[e] = out_[e]->download(0, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    return result;
+  }
+
+ private:
+  uint32_t w_, h_;
+  std::array<std::unique_ptr<GpuImage>, 2> in_, out_, depth_;
+  VkImageLayout outLayout_ = VK_IMAGE_LAYOUT_UNDEFINED;
+};
+
+std::unique_ptr<Filter> makeFilter(const std::string& method, Params p = {}) {
+  auto applied = applyMethodName(method, p);
+  EXPECT_TRUE(applied) << method;
+  std::string err;
+  auto f = Filter::create(*gCtx, *applied, &err);
+  EXPECT_TRUE(f) << err;
+  return f;
+}
+
+// A smooth pattern with edges and fine detail, plus optional per-pixel noise.
+HostImage pattern(uint32_t w, uint32_t h, uint32_t seed, float noise = 0.0f) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  HostImage img(w, h);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const float fx = float(x) / float(w), fy = float(y) / float(h);
+      glm::vec3 c(0.5f + 0.4f * std::sin(fx * 9.0f + fy * 3.0f), 0.5f + 0.4f * std::cos(fy * 7.0f),
+                  ((x / 8 + y / 8) % 2) ? 0.8f : 0.15f);
+      if ((x - w / 2) * (x - w / 2) + (y - h / 3) * (y - h / 3) < w * w / 25) c = {0.95f, 0.9f, 0.1f};
+      c += noise * glm::vec3(u(rng), u(rng), u(rng));
+      img.at(x, y) = glm::vec4(glm::clamp(c, 0.0f, 1.0f), 1.0f);
+    }
+  return img;
+}
+
+HostImage toHalf(const HostImage& img) {  // what an RGBA16F history holds
+  HostImage out = img;
+  for (auto& p : out.px)
+    for (int k = 0; k < 4; ++k) p[k] = glm::unpackHalf1x16(glm::packHalf1x16(p[k]));
+  return out;
+}
+
+struct Diff {
+  float maxAbs = 0.0f;
+  float meanAbs = 0.0f;
+};
+Diff compare(const HostImage& a, const HostImage& b) {
+  Diff d;
+  double sum = 0.0;
+  for (size_t i = 0; i < a.px.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const float v = std::abs(a.px[i][k] - b.px[i][k]);
+      d.maxAbs = std::max(d.maxAbs, std::isfinite(v) ? v : 1e9f);
+      sum += v;
+    }
+  d.meanAbs = float(sum / (3.0 * double(a.px.size())));
+  return d;
+}
+
+RefView eye(float yawDeg, float pitchDeg, glm::vec3 pos = glm::vec3(0)) {
+  RefView v;
+  v.pose.orientation =
+      glm::angleAxis(yawDeg * kDeg, glm::vec3(0, 1, 0)) * glm::angleAxis(pitchDeg * kDeg, glm::vec3(1, 0, 0));
+  v.pose.position = pos;
+  v.fov = {-0.75f, 0.70f, 0.72f, -0.80f};  // asymmetric, as headsets report
+  return v;
+}
+
+}  // namespace
+
+class CoreTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    OwnedContextOptions o;
+    o.enableValidation = std::getenv("STEADYXR_NO_VALIDATION") == nullptr;
+    std::string err;
+    ctx_ = VulkanContext::createOwned(o, &err);
+    ASSERT_TRUE(ctx_) << err;
+    gCtx = ctx_.get();
+  }
+  static void TearDownTestSuite() {
+    gCtx = nullptr;
+    ctx_.reset();
+  }
+  void SetUp() override {
+    ASSERT_TRUE(ctx_);
+    before_ = ctx_->validationMessageCount();
+  }
+  void TearDown() override {
+    const auto msgs = ctx_->validationMessages();
+    EXPECT_EQ(msgs.size(), before_) << "validation: " << (msgs.size() > before_ ? msgs[before_] : "");
+  }
+  static std::unique_ptr<VulkanContext> ctx_;
+  size_t before_ = 0;
+};
+std::unique_ptr<VulkanContext> CoreTest::ctx_;
+
+TEST_F(CoreTest, ContextPicksCpuDeviceAndHasTimestamps) {
+  EXPECT_TRUE(ctx_->owned());
+  EXPECT_EQ(ctx_->properties().deviceType, VK_PHYSICAL_DEVICE_TYPE_CPU);
+  auto f = makeFilter("none");
+  Rig rig(32, 16);
+  Frame fr;
+  fr.color = {pattern(32, 16, 1), pattern(32, 16, 2)};
+  fr.views = {eye(0, 0), eye(0, 0)};
+  rig.run(*f, fr);
+  const auto t = f->lastTimings();
+  ASSERT_TRUE(t);
+  EXPECT_GT(t->totalMs, 0.0);
+  EXPECT_GE(t->totalMs + 1e-9, t->temporalMs + t->stereoMs + t->otherMs - 1e-6);
+}
+
+TEST_F(CoreTest, NoneCopiesSubRectsOfLayeredSrgbImages) {
+  // Both eyes in one 2-layer SRGB image, each at a sub-rect; output the same, at another offset.
+  const uint32_t W = 80, H = 60, w = 64, h = 48;
+  GpuImage in(*gCtx, VK_FORMAT_R8G8B8A8_SRGB, W, H, 2, VK_IMAGE_USAGE_SAMPLED_BIT);
+  GpuImage out(*gCtx, VK_FORMAT_R8G8B8A8_SRGB, W, H, 2, VK_IMAGE_USAGE_STORAGE_BIT, true);
+  const HostImage marker(W, H, glm::vec4(0.2f, 0.0f, 1.0f, 1.0f));
+  std::array<HostImage, 2> src = {pattern(W, H, 3), pattern(W, H, 4)};
+  StereoFrame sf;
+  StereoOutput so;
+  for (uint32_t e = 0; e < 2; ++e) {
+    in.upload(src[e], e, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    out.upload(marker, e, VK_IMAGE_LAYOUT_GENERAL);
+    sf.views[e].color = in.ref(e, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, {{5, 7}, {w, h}});
+    so.views[e] = out.ref(e, VK_IMAGE_LAYOUT_GENERAL, {{int32_t(3 + e), 9}, {w, h}});
+    so.views[e].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+  }
+  auto f = makeFilter("none");
+  std::string err;
+  ASSERT_TRUE(f->submit(sf, so, &err)) << err;
+  f->waitIdle();
+  for (uint32_t e = 0; e < 2; ++e) {
+    const HostImage got = out.download(e, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    int bad = 0;
+    for (uint32_t y = 0; y < H; ++y)
+      for (uint32_t x = 0; x < W; ++x) {
+        const bool inside = x >= 3 + e && x < 3 + e + w && y >= 9 && y < 9 + h;
+        const glm::vec4 want = inside ? src[e].at(x - 3 - e + 5, y - 9 + 7) : marker.at(x, y);
+        if (glm::any(
+                glm::greaterThan(glm::abs(glm::vec3(got.at(x, y)) - glm::vec3(want)), glm::vec3(0.004f))))
+          ++bad;
+      }
+    EXPECT_EQ(bad, 0) << "eye " << e;
+  }
+}
+
+TEST_F(CoreTest, NoneWritesEveryOutputFormat) {
+  struct Case {
+    VkFormat fmt;
+    VkImageUsageFlags usage;
+    bool mut;
+  };
+  // Worst-case quantisation in linear light: half an 8-bit step, times the sRGB curve's slope
+  // (at most 2.28, plus the decoder's own allowed error) for SRGB formats; half precision for RGBA16F.
+  auto quant = [](VkFormat f) {
+    if (f == VK_FORMAT_R16G16B16A16_SFLOAT) return 5e-4f;
+    const bool srgb = f == VK_FORMAT_R8G8B8A8_SRGB || f == VK_FORMAT_B8G8R8A8_SRGB;
+    return 0.5f / 255.0f * (srgb ? 2.6f : 1.0f);
+  };
+  const Case cases[] = {
+      {VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_STORAGE_BIT, false},  // direct
+      {VK_FORMAT_R8G8B8A8_SRGB, 0, false},                            // intermediate + copy
+      {VK_FORMAT_B8G8R8A8_UNORM, 0, false},                           // swizzle + copy
+      {VK_FORMAT_B8G8R8A8_SRGB, VK_IMAGE_USAGE_STORAGE_BIT, true},    // UNORM view, encode
+      {VK_FORMAT_R16G16B16A16_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, false},
+  };
+  for (const auto inFmt : {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_B8G8R8A8_SRGB}) {
+    for (const Case& c : cases) {
+      Rig rig(24, 20, inFmt, c.fmt, c.usage, c.mut);
+      auto f = makeFilter("none");
+      Frame fr;
+      fr.color = {pattern(24, 20, 5), pattern(24, 20, 6)};
+      fr.views = {eye(0, 0), eye(0, 0)};
+      auto out = rig.run(*f, fr);
+      for (int e = 0; e < 2; ++e)
+        EXPECT_LE(compare(out[e], fr.color[e]).maxAbs, quant(inFmt) + quant(c.fmt) + 1e-4f)
+            << "in " << inFmt << " out " << c.fmt;
+    }
+  }
+}
+
+class TemporalReference : public CoreTest, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(TemporalReference, MatchesCpuReference) {
+  const std::string method = GetParam();
+  const uint32_t W = 64, H = 64;
+  Params p = *applyMethodName(method);
+  if (method == "hmtaa2") {
+    p = *applyMethodName("hmtaa");
+    p.sampleCount = 2;
+  }
+  const bool withDepth = method == "taa-depth";
+  if (withDepth) p = *applyMethodName("taa");
+  std::string err;
+  auto f = Filter::create(*gCtx, p, &err);
+  ASSERT_TRUE(f) << err;
+  Rig rig(W, H);
+  Frame f1, f2;
+  f1.color = {pattern(W, H, 7), pattern(W, H, 8)};
+  f1.views = {eye(0.0f, 0.0f), eye(0.0f, 0.0f, {0.064f, 0, 0})};
+  f2.color = {pattern(W, H, 9, 0.05f), pattern(W, H, 10, 0.05f)};
+  f2.views = {eye(1.3f, -0.7f, {0.01f, 0.0f, 0.02f}), eye(1.3f, -0.7f, {0.074f, 0.0f, 0.02f})};
+  f2.headSpeed = 6.0f;
+  if (withDepth) {
+    for (auto* fr : {&f1, &f2})
+      for (int e = 0; e < 2; ++e) {
+        fr->depth[e] = HostImage(W, H);
+        for (uint32_t y = 0; y < H; ++y)
+          for (uint32_t x = 0; x < W; ++x) {
+            const float z = x < W / 2 ? 0.5f : 3.0f;  // metres: a near half and a far half
+            fr->depth[e].at(x, y).r = (1.0f / z - 1.0f / 0.1f) / (1.0f / 100.0f - 1.0f / 0.1f);
+          }
+      }
+  }
+  const auto out1 = rig.run(*f, f1);
+  for (int e = 0; e < 2; ++e) EXPECT_LE(compare(out1[e], f1.color[e]).maxAbs, 1e-3f) << "first frame = input";
+  const auto out2 = rig.run(*f, f2);
+  for (int e = 0; e < 2; ++e) {
+    const auto method_ = p.temporal;
+    const HostImage want =
+        test::temporalRef(method_, p, toHalf(f2.color[e]), toHalf(f1.color[e]), true, f1.views[e],
+                          f2.views[e], f2.headSpeed, withDepth ? &f2.depth[e] : nullptr, 0.1f, 100.0f);
+    const Diff d = compare(out2[e], want);
+    // Tolerance: GPU bilinear weights have 8 sub-texel bits (<= 1/256 of a neighbour difference),
+    // RGBA16F storage (~1e-3). Few pixels sit exactly on a clip/fallback decision boundary.
+    EXPECT_LE(d.meanAbs, 2e-3f) << method << " eye " << e;
+    EXPECT_LE(d.maxAbs, 0.05f) << method << " eye " << e;
+    // The filter did something: the output is not just the current frame.
+    EXPECT_GT(compare(out2[e], f2.color[e]).meanAbs, 5e-3f) << method;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Passes, TemporalReference,
+                         ::testing::Values("taa", "hmtaa", "hmtaa2", "vtaa", "hybrid", "taa-depth"),
+                         [](const auto& pinfo) {
+                           std::string s = pinfo.param;
+                           for (auto& c : s)
+                             if (c == '-') c = '_';
+                           return s;
+                         });
+
+TEST_F(CoreTest, FxaaMatchesCpuReference) {
+  const uint32_t W = 64, H = 64;
+  HostImage img(W, H);
+  for (uint32_t y = 0; y < H; ++y)
+    for (uint32_t x = 0; x < W; ++x) {
+      // hard-edged shapes: a tilted edge, a circle, thin lines
+      const bool a = float(y) > 0.35f * float(x) + 10.0f;
+      const bool b = (x - 40) * (x - 40) + (y - 20) * (y - 20) < 120;
+      const bool c = (x + 2 * y) % 11 == 0;
+      img.at(x, y) = glm::vec4(a ? 0.9f : 0.1f, b ? 0.8f : 0.2f, c ? 1.0f : 0.0f, 1.0f);
+    }
+  auto f = makeFilter("fxaa");
+  Rig rig(W, H);
+  Frame fr;
+  fr.color = {img, img};
+  fr.views = {eye(0, 0), eye(0, 0)};
+  const auto out = rig.run(*f, fr);
+  const HostImage want = test::fxaaRef(toHalf(img));
+  const Diff d = compare(out[0], want);
+  EXPECT_LE(d.meanAbs, 2e-3f);
+  EXPECT_LE(d.maxAbs, 0.06f);
+  EXPECT_GT(compare(out[0], img).meanAbs, 5e-3f);  // edges were smoothed
+}
+
+class StereoReference : public CoreTest, public ::testing::WithParamInterface<bool> {};
+
+TEST_P(StereoReference, MatchesCpuReference) {
+  const bool withDepth = GetParam();
+  const uint32_t W = 64, H = 48;
+  auto f = makeFilter("stereo");
+  Rig rig(W, H);
+  Frame fr;
+  fr.views = {eye(0.5f, 0.0f, {-0.032f, 0, 0}), eye(0.5f, 0.0f, {0.032f, 0, 0})};
+  fr.color = {pattern(W, H, 11, 0.08f), pattern(W, H, 12, 0.08f)};
+  if (withDepth) {
+    for (int e = 0; e < 2; ++e) {
+      fr.depth[e] = HostImage(W, H);
+      for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+          const float z = (x > 20 && x < 36 && y > 10 && y < 30) ? 0.4f : 2.0f;  // a box before a wall
+          fr.depth[e].at(x, y).r = (1.0f / z - 1.0f / 0.1f) / (1.0f / 100.0f - 1.0f / 0.1f);
+        }
+    }
+  }
+  const auto out = rig.run(*f, fr);
+  const Params p = *applyMethodName("stereo");
+  for (int e = 0; e < 2; ++e) {
+    const int o = 1 - e;
+    const HostImage want =
+        test::stereoRef(p, toHalf(fr.color[e]), toHalf(fr.color[o]), fr.views[e], fr.views[o],
+                        withDepth ? &fr.depth[e] : nullptr, withDepth ? &fr.depth[o] : nullptr, 0.1f, 100.0f);
+    const Diff d = compare(out[e], want);
+    EXPECT_LE(d.meanAbs, 3e-3f) << "eye " << e;
+    EXPECT_LE(d.maxAbs, 0.08f) << "eye " << e;
+    EXPECT_GT(compare(out[e], fr.color[e]).meanAbs, 5e-3f);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Depth, StereoReference, ::testing::Bool());
+
+TEST_F(CoreTest, ConstantColourStaysConstantUnderEveryPass) {
+  const uint32_t W = 32, H = 32;
+  const glm::vec4 c(0.3f, 0.55f, 0.8f, 1.0f);
+  for (const char* m :
+       {"none", "fxaa", "taa", "hmtaa", "vtaa", "hybrid", "stereo", "default", "taa+stereo"}) {
+    auto f = makeFilter(m);
+    Rig rig(W, H, VK_FORMAT_R8G8B8A8_SRGB, VK_FORMAT_R16G16B16A16_SFLOAT);
+    const HostImage img(W, H, c);
+    const HostImage want =
+        rig.run(*f, Frame{{img, img}, {eye(0, 0), eye(0, 0, {0.06f, 0, 0})}})[0];  // sRGB-quantised
+    for (int i = 1; i < 5; ++i) {
+      Frame fr{{img, img},
+               {eye(0.4f * i, -0.2f * i, {0.001f * i, 0, 0}), eye(0.4f * i, -0.2f * i, {0.06f, 0, 0})}};
+      fr.headSpeed = 3.0f * float(i);
+      const auto out = rig.run(*f, fr);
+      for (int e = 0; e < 2; ++e) EXPECT_LE(compare(out[e], want).maxAbs, 2e-3f) << m << " frame " << i;
+    }
+  }
+}
+
+TEST_F(CoreTest, VtaaNoiseConvergesLikeOneOverN) {
+  const uint32_t W = 48, H = 48;
+  Params p = *applyMethodName("vtaa");
+  p.vtaaAlphaMin = 0.0f;  // pure Eq. 4: no floor, so the 1/N behaviour is visible
+  std::string err;
+  auto f = Filter::create(*gCtx, p, &err);
+  ASSERT_TRUE(f) << err;
+  Rig rig(W, H);
+  std::mt19937 rng(42);
+  std::normal_distribution<float> g(0.0f, 0.1f);
+  std::vector<double> mse;
+  for (int n = 1; n <= 16; ++n) {
+    HostImage img(W, H);
+    for (auto& px : img.px) px = glm::vec4(0.5f + g(rng), 0.5f + g(rng), 0.5f + g(rng), 1.0f);
+    const auto out = rig.run(*f, Frame{{img, img}, {eye(0, 0), eye(0, 0)}}, 1);
+    double s = 0;
+    for (const auto& px : out[0].px)
+      for (int k = 0; k < 3; ++k) s += (px[k] - 0.5) * (px[k] - 0.5);
+    mse.push_back(s / (3.0 * W * H));
+  }
+  const double sigma2 = 0.01;
+  EXPECT_NEAR(mse[0], sigma2, 0.15 * sigma2);
+  for (int n : {2, 4, 8, 16}) {
+    // progressive averaging gives sigma^2 / N; the 3x3 estimators are noisy, allow a factor 2
+    const double ratio = mse[size_t(n - 1)] / (sigma2 / n);
+    EXPECT_LT(ratio, 2.0) << "N = " << n << " mse " << mse[size_t(n - 1)];
+    EXPECT_GT(ratio, 0.5) << "N = " << n << " mse " << mse[size_t(n - 1)];
+  }
+}
+
+TEST_F(CoreTest, HeadRotationMovesFeatureByPredictedPixels) {
+  // hmtaa with d = 0, w_min = w_lb = 0 and h = 0: A = 0, the output is the reprojected history.
+  Params p = *applyMethodName("hmtaa");
+  p.wMin = 0.0f;
+  p.wLowerBound = 0.0f;
+  p.sampleD = {0.0f, 0.0f, 0.0f, 0.0f};
+  std::string err;
+  auto f = Filter::create(*gCtx, p, &err);
+  ASSERT_TRUE(f) << err;
+  const uint32_t W = 64, H = 64;
+  RefView v0;
+  v0.fov = Fov{};  // +-45 deg: tan x = 2 x / W - 1
+  const float cx = 20.3f, cy = 32.0f;
+  HostImage blob(W, H);
+  for (uint32_t y = 0; y < H; ++y)
+    for (uint32_t x = 0; x < W; ++x) {
+      const float dx = x + 0.5f - cx, dy = y + 0.5f - cy;
+      const float v = std::exp(-(dx * dx + dy * dy) / (2 * 2.0f * 2.0f));
+      blob.at(x, y) = glm::vec4(v, v, v, 1);
+    }
+  Rig rig(W, H);
+  rig.run(*f, Frame{{blob, blob}, {v0, v0}}, 1);
+  RefView v1 = v0;
+  const float yaw = 2.0f * kDeg;  // turning left moves the scene right in the image
+  v1.pose.orientation = glm::angleAxis(yaw, glm::vec3(0, 1, 0));
+  const auto out = rig.run(*f, Frame{{HostImage(W, H), HostImage(W, H)}, {v1, v1}}, 1);
+  double sx = 0, sy = 0, sw = 0;
+  for (uint32_t y = 0; y < H; ++y)
+    for (uint32_t x = 0; x < W; ++x) {
+      const double v = out[0].at(x, y).r;
+      sx += v * (x + 0.5);
+      sy += v * (y + 0.5);
+      sw += v;
+    }
+  // By hand: tan(a) = 2*20.3/64 - 1 = -0.365625, a = -20.0852 deg; after the turn a + 2 deg =
+  // -18.0852 deg, tan = -0.326539, x = (1 - 0.326539) * 32 = 21.5508 px (1.25 px to the right).
+  const float predicted = (std::tan(std::atan(2 * cx / W - 1) + yaw) + 1) * W / 2;
+  EXPECT_NEAR(predicted, 21.5508f, 0.001f);
+  EXPECT_NEAR(sx / sw, predicted, 0.05);
+  EXPECT_NEAR(sy / sw, cy, 0.05);
+}
+
+TEST_F(CoreTest, HmtaaAboveHMaxOutputsCurrentFrameExactly) {
+  auto f = makeFilter("hmtaa");
+  Rig rig(40, 40, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM);
+  rig.run(*f, Frame{{pattern(40, 40, 1), pattern(40, 40, 1)}, {eye(0, 0), eye(0, 0)}});
+  Frame fr{{pattern(40, 40, 2, 0.1f), pattern(40, 40, 3, 0.1f)}, {eye(0.5f, 0), eye(0.5f, 0)}};
+  fr.headSpeed = 25.5f;
+  const auto out = rig.run(*f, fr);
+  for (int e = 0; e < 2; ++e) {
+    // the upload quantised to 8 bits; the output must hold exactly those bytes
+    HostImage q = fr.color[e];
+    for (auto& px : q.px)
+      for (int k = 0; k < 3; ++k) px[k] = std::round(px[k] * 255.0f) / 255.0f;
+    EXPECT_EQ(compare(out[e], q).maxAbs, 0.0f);
+  }
+  Frame fr2{{pattern(40, 40, 4, 0.1f), pattern(40, 40, 5, 0.1f)}, {eye(0.5f, 0), eye(0.5f, 0)}};
+  fr2.headSpeed = 10.0f;  // below h_max the history is blended in again
+  const auto out2 = rig.run(*f, fr2);
+  EXPECT_GT(compare(out2[0], fr2.color[0]).meanAbs, 0.01f);
+}
+
+TEST_F(CoreTest, IdenticalEyesAreUnchangedByStereo) {
+  for (const char* m : {"stereo", "default"}) {
+    auto f = makeFilter(m);
+    Rig rig(48, 40, VK_FORMAT_R8G8B8A8_SRGB, VK_FORMAT_R8G8B8A8_SRGB, 0);
+    const HostImage img = pattern(48, 40, 13, 0.1f);
+    const auto out = rig.run(*f, Frame{{img, img}, {eye(0.3f, 0.1f), eye(0.3f, 0.1f)}});
+    for (int e = 0; e < 2; ++e) EXPECT_LE(compare(out[e], img).maxAbs, 0.01f) << m;
+  }
+}
+
+TEST_F(CoreTest, ResetClearsHistory) {
+  auto f = makeFilter("taa");
+  Rig rig(32, 32);
+  const HostImage a = pattern(32, 32, 20), b = pattern(32, 32, 21, 0.2f);
+  for (int i = 0; i < 3; ++i) rig.run(*f, Frame{{a, a}, {eye(0, 0), eye(0, 0)}});
+  const auto blended = rig.run(*f, Frame{{b, b}, {eye(0, 0), eye(0, 0)}});
+  EXPECT_GT(compare(blended[0], b).meanAbs, 0.01f);  // history is in use
+
+  Frame fr{{b, b}, {eye(0, 0), eye(0, 0)}};
+  fr.reset = true;  // frame flag
+  EXPECT_LE(compare(rig.run(*f, fr)[0], b).maxAbs, 1e-3f);
+  rig.run(*f, Frame{{a, a}, {eye(0, 0), eye(0, 0)}});
+  f->reset();  // API call
+  EXPECT_LE(compare(rig.run(*f, Frame{{b, b}, {eye(0, 0), eye(0, 0)}})[0], b).maxAbs, 1e-3f);
+  rig.run(*f, Frame{{a, a}, {eye(0, 0), eye(0, 0)}});
+  // pose jump beyond resetAngleDeg (30)
+  EXPECT_LE(compare(rig.run(*f, Frame{{b, b}, {eye(40, 0), eye(40, 0)}})[0], b).maxAbs, 1e-3f);
+  // method change resets
+  rig.run(*f, Frame{{a, a}, {eye(40, 0), eye(40, 0)}});
+  Params p = f->params();
+  p.temporal = TemporalMethod::Vtaa;
+  f->setParams(p);
+  EXPECT_LE(compare(rig.run(*f, Frame{{b, b}, {eye(40, 0), eye(40, 0)}})[0], b).maxAbs, 1e-3f);
+  // size change: a new size starts without history
+  Rig small(16, 24);
+  const HostImage c = pattern(16, 24, 22);
+  EXPECT_LE(compare(small.run(*f, Frame{{c, c}, {eye(40, 0), eye(40, 0)}})[0], c).maxAbs, 1e-3f);
+}
+
+TEST_F(CoreTest, NanAndInfNeverReachTheHistory) {
+  for (const char* m : {"taa", "hmtaa", "vtaa", "default"}) {
+    auto f = makeFilter(m);
+    Rig rig(32, 32);
+    HostImage bad = pattern(32, 32, 30);
+    bad.at(5, 5) = glm::vec4(NAN, 0.5f, 0.5f, 1.0f);
+    bad.at(6, 5) = glm::vec4(INFINITY, -INFINITY, 0.5f, 1.0f);
+    bad.at(20, 20) = glm::vec4(NAN);
+    auto finite = [](const HostImage& img) {
+      for (const auto& px : img.px)
+        if (!std::isfinite(px.r) || !std::isfinite(px.g) || !std::isfinite(px.b)) return false;
+      return true;
+    };
+    auto o1 = rig.run(*f, Frame{{bad, bad}, {eye(0, 0), eye(0, 0)}});
+    Frame nanPose{{bad, bad}, {eye(0.5f, 0), eye(0.5f, 0)}};
+    nanPose.views[0].pose.orientation.x = NAN;
+    nanPose.views[1].pose.position.y = INFINITY;
+    nanPose.headSpeed = NAN;
+    auto o2 = rig.run(*f, nanPose);
+    const HostImage good = pattern(32, 32, 31);
+    auto o3 = rig.run(*f, Frame{{good, good}, {eye(1, 0), eye(1, 0)}});
+    auto o4 = rig.run(*f, Frame{{good, good}, {eye(1.2f, 0), eye(1.2f, 0)}});
+    for (int e = 0; e < 2; ++e) {
+      EXPECT_TRUE(finite(o1[e]) && finite(o2[e]) && finite(o3[e]) && finite(o4[e])) << m;
+    }
+  }
+}
+
+TEST_F(CoreTest, BorrowedContextNeverDestroysTheAppsHandles) {
+  BorrowedHandles h;
+  h.instance = ctx_->instance();
+  h.physicalDevice = ctx_->physicalDevice();
+  h.device = ctx_->device();
+  h.queueFamilyIndex = ctx_->queueFamilyIndex();
+  std::string err;
+  {
+    auto borrowed = VulkanContext::borrow(h, &err);
+    ASSERT_TRUE(borrowed) << err;
+    EXPECT_FALSE(borrowed->owned());
+    EXPECT_EQ(borrowed->device(), ctx_->device());
+    auto f = Filter::create(*borrowed, *applyMethodName("default"), &err);
+    ASSERT_TRUE(f) << err;
+    Rig rig(16, 16);
+    const HostImage img = pattern(16, 16, 40);
+    rig.run(*f, Frame{{img, img}, {eye(0, 0), eye(0, 0)}});
+  }
+  // the device is still alive and usable after the borrowed context and its filter are gone
+  auto f = makeFilter("none");
+  Rig rig(16, 16);
+  const HostImage img = pattern(16, 16, 41);
+  EXPECT_LE(compare(rig.run(*f, Frame{{img, img}, {eye(0, 0), eye(0, 0)}})[0], img).maxAbs, 1e-3f);
+  BorrowedHandles none;
+  EXPECT_FALSE(VulkanContext::borrow(none, &err));
+  EXPECT_FALSE(err.empty());
+}
+
+TEST_F(CoreTest, RejectsBadFramesWithoutCrashing) {
+  auto f = makeFilter("default");
+  GpuImage in(*gCtx, VK_FORMAT_R8G8B8A8_UNORM, 16, 16, 1, VK_IMAGE_USAGE_SAMPLED_BIT);
+  GpuImage out(*gCtx, VK_FORMAT_R8G8B8A8_UNORM, 8, 8, 1, VK_IMAGE_USAGE_STORAGE_BIT);
+  StereoFrame sf;
+  StereoOutput so;
+  sf.views[0].color = sf.views[1].color = in.ref(0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  so.views[0] = so.views[1] = out.ref(0, VK_IMAGE_LAYOUT_GENERAL);
+  std::string err;
+  EXPECT_FALSE(f->submit(sf, so, &err));  // size mismatch
+  EXPECT_FALSE(err.empty());
+  sf.viewCount = 3;
+  EXPECT_FALSE(f->submit(sf, so, &err));
+  sf.viewCount = 2;
+  sf.views[0].color.rect = {{10, 10}, {16, 16}};
+  EXPECT_FALSE(f->submit(sf, so, &err));  // rect outside the image
+  EXPECT_FALSE(Filter::create(
+      *gCtx,
+      [] {
+        Params p;
+        p.wMin = -1;
+        return p;
+      }(),
+      &err));
+}

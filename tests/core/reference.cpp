@@ -1,0 +1,242 @@
+#include "reference.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/glm.hpp>
+
+#include "steadyxr/core/view_math.h"
+
+namespace steadyxr::test {
+
+using glm::vec2;
+using glm::vec3;
+using glm::vec4;
+
+bool reprojectRef(vec2 pc, float dist, const RefView& from, const RefView& to, glm::uvec2 size, vec2* q,
+                  float* distTo) {
+  const glm::mat4 pFrom = core::projectionFromFov(from.fov, 0.1f, 100.0f);
+  const vec2 ndc = pc / vec2(size) * 2.0f - 1.0f;
+  vec4 v = glm::inverse(pFrom) * vec4(ndc, 0.0f, 1.0f);
+  v /= v.w;
+  const vec3 pView = vec3(v) * (dist / -v.z);
+  const vec4 world = glm::inverse(core::viewFromPose(from.pose)) * vec4(pView, 1.0f);
+  const vec4 vt = core::viewFromPose(to.pose) * world;
+  if (!(-vt.z > 0.0f)) return false;
+  const vec4 clip = core::projectionFromFov(to.fov, 0.1f, 100.0f) * vt;
+  *q = (vec2(clip) / clip.w + 1.0f) * 0.5f * vec2(size);
+  *distTo = -vt.z;
+  return q->x >= 0.0f && q->y >= 0.0f && q->x <= float(size.x) && q->y <= float(size.y);
+}
+
+glm::vec3 fetchClamped(const HostImage& img, int x, int y) {
+  x = std::clamp(x, 0, int(img.width) - 1);
+  y = std::clamp(y, 0, int(img.height) - 1);
+  return vec3(img.at(uint32_t(x), uint32_t(y)));
+}
+
+glm::vec3 bilinear(const HostImage& img, vec2 q) {
+  q = glm::clamp(q, vec2(0.5f), vec2(img.width, img.height) - 0.5f) - 0.5f;
+  const vec2 f = q - glm::floor(q);
+  const int x = int(std::floor(q.x)), y = int(std::floor(q.y));
+  return glm::mix(glm::mix(fetchClamped(img, x, y), fetchClamped(img, x + 1, y), f.x),
+                  glm::mix(fetchClamped(img, x, y + 1), fetchClamped(img, x + 1, y + 1), f.x), f.y);
+}
+
+namespace {
+
+vec3 yCoCg(vec3 c) {
+  return {c.r / 4 + c.g / 2 + c.b / 4, c.r / 2 - c.b / 2, -c.r / 4 + c.g / 2 - c.b / 4};
+}
+vec3 rgb(vec3 y) {
+  return {y.x + y.y - y.z, y.x + y.z, y.x - y.y - y.z};
+}
+
+float distanceFromDepth(float d, float nearZ, float farZ) {
+  const float invZ = 1.0f / nearZ + d * (1.0f / farZ - 1.0f / nearZ);
+  return 1.0f / invZ;
+}
+
+// Seed 002 Eq. 4 with the literal estimators of Eq. 10 (sigma^2) and Eq. 11 (mean of (X - Y_i)^2).
+float eq4Alpha(vec3 x, const vec3 (&n)[9], float lo) {
+  vec3 s1(0), s2(0), e(0);
+  for (const vec3& y : n) {
+    s1 += y;
+    s2 += y * y;
+    e += (x - y) * (x - y);
+  }
+  const vec3 var = glm::max(s2 / 9.0f - (s1 / 9.0f) * (s1 / 9.0f), vec3(0));
+  const float sigma2 = (var.r + var.g + var.b) / 3.0f;
+  const float mse = (e.r + e.g + e.b) / 27.0f;
+  const float a = mse > 1e-12f ? 1.0f - sigma2 / mse : 0.0f;
+  return std::clamp(a, lo, 1.0f);
+}
+
+}  // namespace
+
+HostImage temporalRef(core::TemporalMethod m, const core::Params& p, const HostImage& cur,
+                      const HostImage& hist, bool histValid, const RefView& prev, const RefView& now,
+                      float headSpeed, const HostImage* depth, float nearZ, float farZ) {
+  HostImage out(cur.width, cur.height);
+  const glm::uvec2 size(cur.width, cur.height);
+  const bool interpolated = m == core::TemporalMethod::Hmtaa || m == core::TemporalMethod::Hybrid;
+  const uint32_t n = interpolated ? p.sampleCount : 1;
+  float w[4];
+  core::sampleWeightsW(p.sampleD.data(), n, w);
+  const float aGlobal = core::globalWeightA(headSpeed, p.hMaxDegPerSec, p.wMin);
+  for (uint32_t y = 0; y < cur.height; ++y)
+    for (uint32_t x = 0; x < cur.width; ++x) {
+      const vec3 c = vec3(cur.at(x, y));
+      vec3 result = c;
+      vec3 nb[9];
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) nb[j * 3 + i] = fetchClamped(cur, int(x) + i - 1, int(y) + j - 1);
+      const float dist = depth ? distanceFromDepth(depth->at(x, y).r, nearZ, farZ) : p.stereoFarDistanceM;
+      const vec2 pc(x + 0.5f, y + 0.5f);
+      if (histValid) {
+        vec3 past(0);
+        float wsum = 0;
+        for (uint32_t i = 0; i < n; ++i) {
+          const RefView at = interpolated
+                                 ? RefView{core::interpolatePose(prev.pose, now.pose, p.sampleD[i]), prev.fov}
+                                 : prev;
+          vec2 q;
+          float dt;
+          if (reprojectRef(pc, dist, now, at, size, &q, &dt)) {
+            past += w[i] * bilinear(hist, q);
+            wsum += w[i];
+          }
+        }
+        if (wsum > 0) {
+          past /= wsum;
+          if (m == core::TemporalMethod::Taa) {
+            vec3 s1(0), s2(0);
+            for (const vec3& v : nb) {
+              s1 += yCoCg(v);
+              s2 += yCoCg(v) * yCoCg(v);
+            }
+            const vec3 mean = s1 / 9.0f;
+            const vec3 sigma = glm::sqrt(glm::max(s2 / 9.0f - mean * mean, vec3(0)));
+            const vec3 ext = p.taaClipGamma * sigma + 1e-6f;
+            vec3 h = yCoCg(past);
+            const vec3 t = glm::abs(h - mean) / ext;
+            const float mx = std::max({t.x, t.y, t.z});
+            if (mx > 1.0f) h = mean + (h - mean) / mx;  // clip towards the mean onto the box
+            result = glm::max(glm::mix(rgb(h), c, p.taaAlpha), vec3(0));
+          } else if (m == core::TemporalMethod::Vtaa) {
+            result = glm::mix(past, c, eq4Alpha(past, nb, p.vtaaAlphaMin));
+          } else if (m == core::TemporalMethod::Hmtaa) {
+            const vec3 dc = c - past;
+            const float cdiff = std::clamp(std::sqrt(glm::dot(dc, dc) / 3.0f), 0.0f, 1.0f);
+            const float wmin = core::localisedWMin(p.wMin, p.wLowerBound, cdiff);
+            const float a = core::globalWeightA(headSpeed, p.hMaxDegPerSec, wmin);
+            result = a >= 1.0f ? c : glm::mix(past, c, a);
+          } else {
+            const float ah = core::globalWeightA(headSpeed, p.hMaxDegPerSec, p.vtaaAlphaMin);
+            const float a = std::max(eq4Alpha(past, nb, p.vtaaAlphaMin), ah);
+            result = a >= 1.0f ? c : glm::mix(past, c, a);
+          }
+        }
+      }
+      (void)aGlobal;
+      out.at(x, y) = vec4(result, 1.0f);
+    }
+  return out;
+}
+
+HostImage fxaaRef(const HostImage& in) {
+  // FXAA 3.11 quality, written from seed 001 §4.3 / the FXAA 3.11 reference structure.
+  const float kSteps[8] = {1.0f, 1.5f, 2.0f, 2.0f, 2.0f, 4.0f, 8.0f, 8.0f};
+  auto luma = [](vec3 c) { return std::sqrt(std::max(glm::dot(c, vec3(0.299f, 0.587f, 0.114f)), 0.0f)); };
+  auto L = [&](int x, int y) { return luma(fetchClamped(in, x, y)); };
+  auto LAt = [&](vec2 q) { return luma(bilinear(in, q)); };
+  HostImage out(in.width, in.height);
+  for (int y = 0; y < int(in.height); ++y)
+    for (int x = 0; x < int(in.width); ++x) {
+      const vec2 pc(x + 0.5f, y + 0.5f);
+      const float m = L(x, y), nn = L(x, y - 1), s = L(x, y + 1), w = L(x - 1, y), e = L(x + 1, y);
+      const float mx = std::max({m, nn, s, w, e}), mn = std::min({m, nn, s, w, e});
+      const float range = mx - mn;
+      vec3 result = fetchClamped(in, x, y);
+      if (range >= std::max(0.0833f, mx * 0.166f)) {
+        const float nw = L(x - 1, y - 1), ne = L(x + 1, y - 1), sw = L(x - 1, y + 1), se = L(x + 1, y + 1);
+        const float edgeH =
+            std::abs(nw + ne - 2 * nn) + 2 * std::abs(w + e - 2 * m) + std::abs(sw + se - 2 * s);
+        const float edgeV =
+            std::abs(nw + sw - 2 * w) + 2 * std::abs(nn + s - 2 * m) + std::abs(ne + se - 2 * e);
+        const bool horz = edgeH >= edgeV;
+        const float l1 = horz ? nn : w, l2 = horz ? s : e;
+        const float g1 = std::abs(l1 - m), g2 = std::abs(l2 - m);
+        const bool side1 = g1 >= g2;
+        const float gradScaled = 0.25f * std::max(g1, g2);
+        const float stepLen = side1 ? -1.0f : 1.0f;
+        const float localAvg = 0.5f * ((side1 ? l1 : l2) + m);
+        const vec2 across = horz ? vec2(0, 1) : vec2(1, 0);
+        const vec2 along = horz ? vec2(1, 0) : vec2(0, 1);
+        const vec2 q = pc + across * (0.5f * stepLen);
+        vec2 q1 = q - along * kSteps[0], q2 = q + along * kSteps[0];
+        float e1 = LAt(q1) - localAvg, e2 = LAt(q2) - localAvg;
+        bool d1 = std::abs(e1) >= gradScaled, d2 = std::abs(e2) >= gradScaled;
+        for (int i = 1; i < 8 && !(d1 && d2); ++i) {
+          if (!d1) {
+            q1 -= along * kSteps[i];
+            e1 = LAt(q1) - localAvg;
+            d1 = std::abs(e1) >= gradScaled;
+          }
+          if (!d2) {
+            q2 += along * kSteps[i];
+            e2 = LAt(q2) - localAvg;
+            d2 = std::abs(e2) >= gradScaled;
+          }
+        }
+        const float dist1 = glm::dot(pc - q1, along), dist2 = glm::dot(q2 - pc, along);
+        const bool nearer1 = dist1 < dist2;
+        const float pixelOffset = -std::min(dist1, dist2) / (dist1 + dist2) + 0.5f;
+        const bool mLess = (m - localAvg) < 0.0f;
+        const bool good = ((nearer1 ? e1 : e2) < 0.0f) != mLess;
+        const float avg = (2 * (nn + s + w + e) + nw + ne + sw + se) / 12.0f;
+        const float sub1 = std::clamp(std::abs(avg - m) / range, 0.0f, 1.0f);
+        const float sub2 = (-2 * sub1 + 3) * sub1 * sub1;
+        const float off = std::max(good ? pixelOffset : 0.0f, sub2 * sub2 * 0.75f);
+        result = bilinear(in, pc + across * (off * stepLen));
+      }
+      out.at(uint32_t(x), uint32_t(y)) = vec4(result, 1.0f);
+    }
+  return out;
+}
+
+HostImage stereoRef(const core::Params& p, const HostImage& self, const HostImage& other,
+                    const RefView& selfView, const RefView& otherView, const HostImage* selfDepth,
+                    const HostImage* otherDepth, float nearZ, float farZ) {
+  HostImage out(self.width, self.height);
+  for (uint32_t y = 0; y < self.height; ++y)
+    for (uint32_t x = 0; x < self.width; ++x) {
+      const vec3 c = vec3(self.at(x, y));
+      vec3 nb[9];
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) nb[j * 3 + i] = fetchClamped(self, int(x) + i - 1, int(y) + j - 1);
+      const float dist =
+          selfDepth ? distanceFromDepth(selfDepth->at(x, y).r, nearZ, farZ) : p.stereoFarDistanceM;
+      vec3 result = c;
+      vec2 q;
+      float distOther;
+      if (reprojectRef(vec2(x + 0.5f, y + 0.5f), dist, selfView, otherView, {other.width, other.height}, &q,
+                       &distOther)) {
+        bool ok = true;
+        if (selfDepth && otherDepth) {
+          const int qx = std::clamp(int(std::floor(q.x)), 0, int(other.width) - 1);
+          const int qy = std::clamp(int(std::floor(q.y)), 0, int(other.height) - 1);
+          const float seen = distanceFromDepth(otherDepth->at(uint32_t(qx), uint32_t(qy)).r, nearZ, farZ);
+          ok = std::abs(seen - distOther) <= p.stereoDepthTolerance * distOther;
+        }
+        if (ok) {
+          const vec3 xo = bilinear(other, q);
+          result = glm::mix(xo, c, eq4Alpha(xo, nb, p.stereoBetaMin));
+        }
+      }
+      out.at(x, y) = vec4(result, 1.0f);
+    }
+  return out;
+}
+
+}  // namespace steadyxr::test

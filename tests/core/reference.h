@@ -1,0 +1,36 @@
+// Independent CPU implementations of the filter passes, written from the equations (seed 001,
+// 002, 003) with the view_math projection (unit tested separately), not from filter.cpp.
+#pragma once
+
+#include "gpu_image.h"
+#include "steadyxr/core/params.h"
+
+namespace steadyxr::test {
+
+struct RefView {
+  core::Pose pose;
+  core::Fov fov;
+};
+
+// Pixel centre pc of `from` at view distance `dist` (metres) -> continuous pixel coords in `to`.
+bool reprojectRef(glm::vec2 pc, float dist, const RefView& from, const RefView& to, glm::uvec2 size,
+                  glm::vec2* q, float* distTo);
+
+glm::vec3 fetchClamped(const HostImage& img, int x, int y);
+glm::vec3 bilinear(const HostImage& img, glm::vec2 q);
+
+// One temporal step. `hist` is the previous history (same size as `cur`), `histValid` false on the
+// first frame. headSpeed in deg/s. Returns the new history (= the output when no stereo follows).
+HostImage temporalRef(core::TemporalMethod m, const core::Params& p, const HostImage& cur,
+                      const HostImage& hist, bool histValid, const RefView& prev, const RefView& now,
+                      float headSpeed, const HostImage* depth = nullptr, float nearZ = 0.1f,
+                      float farZ = 100.0f);
+
+HostImage fxaaRef(const HostImage& in);
+
+// Stereo blend of eye `thisEye` with `other` (seed 002 §4.1). Depths optional (D32 values in .r).
+HostImage stereoRef(const core::Params& p, const HostImage& thisEye, const HostImage& other,
+                    const RefView& thisView, const RefView& otherView, const HostImage* thisDepth,
+                    const HostImage* otherDepth, float nearZ, float farZ);
+
+}  // namespace steadyxr::test
