@@ -58,12 +58,24 @@ bool Fusion::update(const hid::ImuSample& s) {
 
   if (accelUsable && glm::length(gyro) < p_.gateGyroRadPerSec) {
     const double sinceStart = static_cast<double>(s.deviceTimeNs - startNs_) * 1e-9;
-    const double gain = sinceStart < p_.warmupSec ? p_.warmupGainPerSec : p_.tiltGainPerSec;
-    const glm::dvec3 measuredUp = accel / accelNorm;                               // head frame
-    const glm::dvec3 predictedUp = glm::conjugate(q) * glm::dvec3(0.0, 1.0, 0.0);  // head frame
-    // Body-frame rotation that turns the predicted up towards the measured one.
-    const glm::dvec3 err = glm::cross(measuredUp, predictedUp);
-    q = q * expMap(err * std::min(gain * step, 1.0));
+    const double gain = std::clamp(1.0 / (sinceStart + 0.01), p_.tiltGainPerSec,
+                                   std::max(p_.warmupGainPerSec, p_.tiltGainPerSec));
+    // Low-pass the specific force in the world frame (where gravity is constant): the head's
+    // linear acceleration (tremor, the neck lever arm) is mostly above 1 Hz and averages out.
+    const glm::dvec3 worldAccel = q * accel;
+    const double tau = std::min(p_.accelTimeConstantSec, sinceStart + step);
+    worldAccelLp_ =
+        haveLp_ ? worldAccelLp_ + (worldAccel - worldAccelLp_) * (1.0 - std::exp(-step / std::max(tau, 1e-6)))
+                : worldAccel;
+    haveLp_ = true;
+    const double lpNorm = glm::length(worldAccelLp_);
+    if (lpNorm > 1e-6) {
+      // World-frame rotation that turns the measured up towards +Y.
+      const glm::dvec3 err = glm::cross(worldAccelLp_ / lpNorm, glm::dvec3(0.0, 1.0, 0.0));
+      const glm::dquat correction = expMap(err * std::min(gain * step, 1.0));
+      q = correction * q;
+      worldAccelLp_ = correction * worldAccelLp_;  // the stored mean turns with the estimate
+    }
   }
   state_.orientation = glm::normalize(q);
   state_.timeNs = s.deviceTimeNs;
@@ -164,9 +176,9 @@ int64_t ClockMapper::update(int64_t hostReceiveNs, int64_t deviceNs) {
   } else if (candidate < offset_) {
     offset_ = candidate;  // less latency than ever seen: the better estimate
   } else {
-    // Creep up by at most 1000 ppm of elapsed host time, to follow a device clock that is slow.
+    // Creep up by at most 200 ppm of elapsed host time, to follow a device clock that is slow.
     const int64_t elapsed = std::max<int64_t>(hostReceiveNs - lastHostNs_, 0);
-    offset_ += std::min(candidate - offset_, elapsed / 1000);
+    offset_ += std::min(candidate - offset_, elapsed / 5000);
   }
   lastHostNs_ = hostReceiveNs;
   return offset_;

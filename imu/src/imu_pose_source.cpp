@@ -314,7 +314,9 @@ std::unique_ptr<ImuPoseSource> openImuPoseSource(const std::string& specIn, std:
     return nullptr;
   }
   if (!t) return nullptr;
-  return std::make_unique<ImuPoseSource>(std::move(t), domain.value_or(fallback));
+  PoseHistory::Params history;
+  if (kind == "file") history.capacity = 1u << 17;  // a recording is sampled afterwards: keep ~2 min
+  return std::make_unique<ImuPoseSource>(std::move(t), domain.value_or(fallback), FusionParams{}, history);
 }
 
 }  // namespace steadyxr::imu

@@ -18,11 +18,13 @@
 namespace steadyxr::imu {
 
 struct FusionParams {
-  double tiltGainPerSec = 0.5;    // complementary filter: how fast tilt follows the accelerometer
-  double warmupGainPerSec = 5.0;  // larger gain right after start, to settle the initial tilt
-  double warmupSec = 0.5;
-  double gateGyroRadPerSec = 0.5;      // no tilt correction while turning (centripetal acceleration)
-  double gateAccelErrorMps2 = 0.6;     // ... nor while |accel| is far from g
+  double tiltGainPerSec = 0.5;  // complementary filter: how fast tilt follows the accelerometer
+  // Right after start the gain is 1/t (the tilt is the running mean of all accelerometer
+  // samples: the head's linear acceleration averages out), capped here, down to tiltGainPerSec.
+  double warmupGainPerSec = 20.0;
+  double accelTimeConstantSec = 0.25;  // world-frame low-pass of the accelerometer before use
+  double gateGyroRadPerSec = 0.2;   // no tilt correction while turning (>11 deg/s: centripetal acceleration)
+  double gateAccelErrorMps2 = 0.6;  // ... nor while |accel| is far from g
   double speedTimeConstantSec = 0.03;  // one-pole smoothing of the head speed
   double maxStepSec = 0.05;            // longer gaps (dropped reports) are not integrated blindly
 };
@@ -51,6 +53,8 @@ class Fusion {
   bool initialized_ = false;
   int64_t startNs_ = 0;
   uint64_t rejected_ = 0;
+  glm::dvec3 worldAccelLp_{0.0};
+  bool haveLp_ = false;
 };
 
 // Ring buffer of fused samples in the host time domain. One writer, any number of readers; a
