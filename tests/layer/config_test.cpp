@@ -62,7 +62,8 @@ TEST(Config, EnvironmentOverridesFile) {
 
 TEST(Config, BadValuesKeepDefaultsAndNameTheKey) {
   std::vector<std::string> messages;
-  const ConfigText t = parseConfigText("method = sharpen\nw_min = 7\ndump_frames = -3\nh_max = nan\n", &messages);
+  const ConfigText t =
+      parseConfigText("method = sharpen\nw_min = 7\ndump_frames = -3\nh_max = nan\n", &messages);
   const Config c = resolveConfig(t, "app", envOf({{"STEADYXR_POSE_SOURCE", "gps"}}), &messages);
   EXPECT_EQ(c.method, "default");
   EXPECT_FLOAT_EQ(c.params.wMin, core::Params{}.wMin);
@@ -93,10 +94,11 @@ TEST(Config, StartsDisabled) {
 
 TEST(Config, ImuAndDumpKeys) {
   std::vector<std::string> messages;
-  const Config c = resolveConfig(parseConfigText("pose_source = IMU\nimu_device = 1209:5a17\ndump_frames = 5\n"
-                                                 "dump_dir = /tmp/d\njitter = on\nsample_count = 2\n",
-                                                 &messages),
-                                 "a", envOf({}), &messages);
+  const Config c =
+      resolveConfig(parseConfigText("pose_source = IMU\nimu_device = 1209:5a17\ndump_frames = 5\n"
+                                    "dump_dir = /tmp/d\njitter = on\nsample_count = 2\n",
+                                    &messages),
+                    "a", envOf({}), &messages);
   EXPECT_TRUE(messages.empty());
   EXPECT_EQ(c.poseSource, PoseSourceKind::Imu);
   EXPECT_EQ(c.imuDevice, "1209:5a17");
@@ -120,10 +122,12 @@ TEST(Config, FileSearchOrder) {
 }
 
 TEST(Config, MethodNames) {
-  for (const char* ok : {"none", "fxaa", "taa", "hmtaa", "vtaa", "hybrid", "stereo", "taa+stereo", "default"}) {
+  for (const char* ok :
+       {"none", "fxaa", "taa", "hmtaa", "vtaa", "hybrid", "stereo", "taa+stereo", "default"}) {
     EXPECT_TRUE(isKnownMethodName(ok)) << ok;
   }
-  for (const char* bad : {"", "+stereo", "stereo+stereo", "TAA", "msaa4"}) EXPECT_FALSE(isKnownMethodName(bad)) << bad;
+  for (const char* bad : {"", "+stereo", "stereo+stereo", "TAA", "msaa4"})
+    EXPECT_FALSE(isKnownMethodName(bad)) << bad;
   EXPECT_EQ(envNameForKey("log_level"), "STEADYXR_LOG_LEVEL");
 }
 

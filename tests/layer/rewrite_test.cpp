@@ -8,7 +8,9 @@
 namespace steadyxr::layer {
 namespace {
 
-XrSwapchain fakeSwapchain(uintptr_t v) { return reinterpret_cast<XrSwapchain>(v); }
+XrSwapchain fakeSwapchain(uintptr_t v) {
+  return reinterpret_cast<XrSwapchain>(v);
+}
 
 XrCompositionLayerProjectionView view(XrSwapchain s, int32_t x, uint32_t arrayIndex, int32_t w = 320) {
   auto v = makeXr<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW);
@@ -51,7 +53,8 @@ XrCompositionLayerProjection projection(const XrCompositionLayerProjectionView* 
 
 TEST(PassThrough, AcceptsThreeSwapchainLayouts) {
   Fixture f;
-  const XrSwapchain l = fakeSwapchain(1), r = fakeSwapchain(2), arr = fakeSwapchain(3), sbs = fakeSwapchain(4);
+  const XrSwapchain l = fakeSwapchain(1), r = fakeSwapchain(2), arr = fakeSwapchain(3),
+                    sbs = fakeSwapchain(4);
   f.known[l] = facts(320, 1);
   f.known[r] = facts(320, 1);
   f.known[arr] = facts(320, 2);
@@ -102,8 +105,9 @@ TEST(Rewrite, CopiesWithoutTouchingTheAppStructs) {
   views[1].next = &depth;
   const XrCompositionLayerProjection proj = projection(views, 2);
   auto quad = makeXr<XrCompositionLayerQuad>(XR_TYPE_COMPOSITION_LAYER_QUAD);
-  const XrCompositionLayerBaseHeader* layers[] = {reinterpret_cast<const XrCompositionLayerBaseHeader*>(&proj),
-                                                  reinterpret_cast<const XrCompositionLayerBaseHeader*>(&quad)};
+  const XrCompositionLayerBaseHeader* layers[] = {
+      reinterpret_cast<const XrCompositionLayerBaseHeader*>(&proj),
+      reinterpret_cast<const XrCompositionLayerBaseHeader*>(&quad)};
   auto info = makeXr<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
   info.displayTime = 1234;
   info.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
@@ -141,7 +145,8 @@ TEST(Rewrite, UnjitteredFov) {
   const XrSwapchain app = fakeSwapchain(1), out = fakeSwapchain(2);
   const XrCompositionLayerProjectionView views[] = {view(app, 0, 0), view(app, 0, 0)};
   const XrCompositionLayerProjection proj = projection(views, 2);
-  const XrCompositionLayerBaseHeader* layers[] = {reinterpret_cast<const XrCompositionLayerBaseHeader*>(&proj)};
+  const XrCompositionLayerBaseHeader* layers[] = {
+      reinterpret_cast<const XrCompositionLayerBaseHeader*>(&proj)};
   auto info = makeXr<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
   info.layerCount = 1;
   info.layers = layers;

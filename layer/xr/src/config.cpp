@@ -1,5 +1,6 @@
 #include "config.h"
 
+#include <sys/stat.h>
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -7,7 +8,6 @@
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
-#include <sys/stat.h>
 
 namespace steadyxr::layer {
 namespace {
@@ -69,9 +69,8 @@ constexpr FloatKey kFloatKeys[] = {
     {"reset_translation_m", &core::Params::resetTranslationM, 0.0f, 100.0f},
 };
 
-constexpr const char* kOtherKeys[] = {"enabled",   "method",      "pose_source", "imu_device",
-                                      "log_level", "log_file",    "dump_frames", "dump_dir",
-                                      "jitter",    "sample_count"};
+constexpr const char* kOtherKeys[] = {"enabled",  "method",      "pose_source", "imu_device", "log_level",
+                                      "log_file", "dump_frames", "dump_dir",    "jitter",     "sample_count"};
 
 std::string formatFloat(float f) {
   std::ostringstream os;
@@ -92,46 +91,70 @@ void applyKey(Config& c, const std::string& key, const std::string& value, const
               std::vector<std::string>* messages) {
   const Config defaults;
   if (key == "enabled") {
-    if (auto b = parseBool(value)) c.enabled = *b;
-    else bad(messages, key, value, origin, "1");
+    if (auto b = parseBool(value))
+      c.enabled = *b;
+    else
+      bad(messages, key, value, origin, "1");
   } else if (key == "method") {
-    if (isKnownMethodName(lower(value))) c.method = lower(value);
-    else bad(messages, key, value, origin, defaults.method);
+    if (isKnownMethodName(lower(value)))
+      c.method = lower(value);
+    else
+      bad(messages, key, value, origin, defaults.method);
   } else if (key == "pose_source") {
     const std::string l = lower(value);
-    if (l == "runtime") c.poseSource = PoseSourceKind::Runtime;
-    else if (l == "imu") c.poseSource = PoseSourceKind::Imu;
-    else bad(messages, key, value, origin, "runtime");
+    if (l == "runtime")
+      c.poseSource = PoseSourceKind::Runtime;
+    else if (l == "imu")
+      c.poseSource = PoseSourceKind::Imu;
+    else
+      bad(messages, key, value, origin, "runtime");
   } else if (key == "imu_device") {
-    if (!value.empty()) c.imuDevice = value;
-    else bad(messages, key, value, origin, defaults.imuDevice);
+    if (!value.empty())
+      c.imuDevice = value;
+    else
+      bad(messages, key, value, origin, defaults.imuDevice);
   } else if (key == "log_level") {
     const std::string l = lower(value);
-    if (l == "error") c.logLevel = LogLevel::Error;
-    else if (l == "warn" || l == "warning") c.logLevel = LogLevel::Warn;
-    else if (l == "info") c.logLevel = LogLevel::Info;
-    else if (l == "debug") c.logLevel = LogLevel::Debug;
-    else bad(messages, key, value, origin, "info");
+    if (l == "error")
+      c.logLevel = LogLevel::Error;
+    else if (l == "warn" || l == "warning")
+      c.logLevel = LogLevel::Warn;
+    else if (l == "info")
+      c.logLevel = LogLevel::Info;
+    else if (l == "debug")
+      c.logLevel = LogLevel::Debug;
+    else
+      bad(messages, key, value, origin, "info");
   } else if (key == "log_file") {
     c.logFile = value;
   } else if (key == "dump_frames") {
-    if (auto n = parseCount(value); n && *n <= 100000) c.dumpFrames = *n;
-    else bad(messages, key, value, origin, "0");
+    if (auto n = parseCount(value); n && *n <= 100000)
+      c.dumpFrames = *n;
+    else
+      bad(messages, key, value, origin, "0");
   } else if (key == "dump_dir") {
-    if (!value.empty()) c.dumpDir = value;
-    else bad(messages, key, value, origin, defaults.dumpDir);
+    if (!value.empty())
+      c.dumpDir = value;
+    else
+      bad(messages, key, value, origin, defaults.dumpDir);
   } else if (key == "jitter") {
-    if (auto b = parseBool(value)) c.jitter = *b;
-    else bad(messages, key, value, origin, "0");
+    if (auto b = parseBool(value))
+      c.jitter = *b;
+    else
+      bad(messages, key, value, origin, "0");
   } else if (key == "sample_count") {
-    if (auto n = parseCount(value); n && *n >= 1 && *n <= core::Params::kMaxSamples) c.params.sampleCount = *n;
-    else bad(messages, key, value, origin, std::to_string(defaults.params.sampleCount));
+    if (auto n = parseCount(value); n && *n >= 1 && *n <= core::Params::kMaxSamples)
+      c.params.sampleCount = *n;
+    else
+      bad(messages, key, value, origin, std::to_string(defaults.params.sampleCount));
   } else {
     for (const FloatKey& f : kFloatKeys) {
       if (key == f.key) {
         const auto d = parseNumber(value);
-        if (d && *d >= f.min && *d <= f.max) c.params.*f.member = static_cast<float>(*d);
-        else bad(messages, key, value, origin, formatFloat(defaults.params.*f.member));
+        if (d && *d >= f.min && *d <= f.max)
+          c.params.*f.member = static_cast<float>(*d);
+        else
+          bad(messages, key, value, origin, formatFloat(defaults.params.*f.member));
         return;
       }
     }
@@ -143,10 +166,14 @@ void applyKey(Config& c, const std::string& key, const std::string& value, const
 
 std::string_view toString(LogLevel level) {
   switch (level) {
-    case LogLevel::Error: return "error";
-    case LogLevel::Warn: return "warn";
-    case LogLevel::Info: return "info";
-    case LogLevel::Debug: return "debug";
+    case LogLevel::Error:
+      return "error";
+    case LogLevel::Warn:
+      return "warn";
+    case LogLevel::Info:
+      return "info";
+    case LogLevel::Debug:
+      return "debug";
   }
   return "info";
 }
@@ -189,14 +216,16 @@ ConfigText parseConfigText(std::string_view text, std::vector<std::string>* mess
   size_t pos = 0;
   while (pos <= text.size()) {
     const size_t nl = text.find('\n', pos);
-    const std::string_view raw = text.substr(pos, nl == std::string_view::npos ? text.size() - pos : nl - pos);
+    const std::string_view raw =
+        text.substr(pos, nl == std::string_view::npos ? text.size() - pos : nl - pos);
     pos = (nl == std::string_view::npos) ? text.size() + 1 : nl + 1;
     ++lineNo;
     std::string line = trim(raw);
     if (line.empty() || line[0] == '#' || line[0] == ';') continue;
     if (line.front() == '[') {
       if (line.back() != ']' || line.size() < 3) {
-        if (messages) messages->push_back("config: line " + std::to_string(lineNo) + ": malformed section header");
+        if (messages)
+          messages->push_back("config: line " + std::to_string(lineNo) + ": malformed section header");
         continue;
       }
       current = &out.sections[trim(std::string_view(line).substr(1, line.size() - 2))];
@@ -250,9 +279,10 @@ Config resolveConfig(const ConfigText& text, std::string_view applicationName, c
   return c;
 }
 
-Config loadConfig(std::string_view applicationName, const EnvLookup& env, std::vector<std::string>* messages) {
+Config loadConfig(std::string_view applicationName, const EnvLookup& env,
+                  std::vector<std::string>* messages) {
   const auto exists = [](const std::string& p) {
-    struct stat st{};
+    struct stat st {};
     return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
   };
   ConfigText text;

@@ -24,11 +24,11 @@ struct Config {
   PoseSourceKind poseSource = PoseSourceKind::Runtime;
   std::string imuDevice = "auto";  // "auto", a /dev/hidrawN path, "VID:PID" (hex), or "pipe:<path>"
   LogLevel logLevel = LogLevel::Info;
-  std::string logFile;             // empty: standard error
-  uint32_t dumpFrames = 0;         // first N frames' input and output eye images as PNG
+  std::string logFile;      // empty: standard error
+  uint32_t dumpFrames = 0;  // first N frames' input and output eye images as PNG
   std::string dumpDir = "steadyxr-dump";
-  bool jitter = false;             // inject a Halton sub-pixel jitter into xrLocateViews' fov
-  std::string configFile;          // the file the values came from (empty: none)
+  bool jitter = false;     // inject a Halton sub-pixel jitter into xrLocateViews' fov
+  std::string configFile;  // the file the values came from (empty: none)
 };
 
 // Raw key/value pairs of a config file: the global part and one map per [section].

@@ -20,7 +20,9 @@ namespace {
 
 constexpr uint64_t kFenceTimeoutNs = 2'000'000'000;  // a dump may stall, never hang
 
-VkImageAspectFlags colorAspect() { return VK_IMAGE_ASPECT_COLOR_BIT; }
+VkImageAspectFlags colorAspect() {
+  return VK_IMAGE_ASPECT_COLOR_BIT;
+}
 
 }  // namespace
 
@@ -102,8 +104,8 @@ bool ImageDumper::writeImage(core::VulkanContext& vk, const core::ImageRef& ref,
   toSrc.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   toSrc.image = ref.image;
   toSrc.subresourceRange = range;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
-                       nullptr, 1, &toSrc);
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr,
+                       0, nullptr, 1, &toSrc);
   VkBufferImageCopy region{};
   region.imageSubresource = {colorAspect(), 0, ref.arrayLayer, 1};
   region.imageOffset = {ref.rect.offset.x, ref.rect.offset.y, 0};
@@ -122,8 +124,8 @@ bool ImageDumper::writeImage(core::VulkanContext& vk, const core::ImageRef& ref,
   hostRead.buffer = buffer.get();
   hostRead.size = VK_WHOLE_SIZE;
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                       VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1, &hostRead,
-                       1, &back);
+                       VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1,
+                       &hostRead, 1, &back);
   vkEndCommandBuffer(cmd);
   auto si = makeVk<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
   si.commandBufferCount = 1;

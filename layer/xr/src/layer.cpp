@@ -132,7 +132,8 @@ XRAPI_ATTR XrResult XRAPI_CALL hookDestroyInstance(XrInstance instance) {
 std::optional<XrGraphicsBindingVulkanKHR> findVulkanBinding(const void* next) {
   // XrGraphicsBindingVulkan2KHR (XR_KHR_vulkan_enable2) is the same struct and type value.
   for (auto* h = static_cast<const XrBaseInStructure*>(next); h != nullptr; h = h->next) {
-    if (h->type == XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR) return *reinterpret_cast<const XrGraphicsBindingVulkanKHR*>(h);
+    if (h->type == XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR)
+      return *reinterpret_cast<const XrGraphicsBindingVulkanKHR*>(h);
   }
   return std::nullopt;
 }
@@ -145,9 +146,11 @@ XRAPI_ATTR XrResult XRAPI_CALL hookCreateSession(XrInstance instance, const XrSe
     const XrResult r = inst->next.createSession(instance, info, session);
     if (XR_FAILED(r) || info == nullptr) return r;
     try {
-      registry().addSession(inst.get(), std::make_shared<Session>(inst, *session, findVulkanBinding(info->next)));
+      registry().addSession(inst.get(),
+                            std::make_shared<Session>(inst, *session, findVulkanBinding(info->next)));
     } catch (const std::exception& e) {
-      inst->log->log(LogLevel::Error, std::string("session setup failed (") + e.what() + "): passing through");
+      inst->log->log(LogLevel::Error,
+                     std::string("session setup failed (") + e.what() + "): passing through");
     }
     return r;
   });
@@ -183,7 +186,8 @@ XRAPI_ATTR XrResult XRAPI_CALL hookDestroySwapchain(XrSwapchain swapchain) {
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL hookEnumerateSwapchainImages(XrSwapchain swapchain, uint32_t capacity,
-                                                            uint32_t* count, XrSwapchainImageBaseHeader* images) {
+                                                            uint32_t* count,
+                                                            XrSwapchainImageBaseHeader* images) {
   return guarded([&] {
     std::shared_ptr<Session> s = registry().swapchainSession(swapchain);
     if (!s) return XR_ERROR_HANDLE_INVALID;
@@ -192,7 +196,8 @@ XRAPI_ATTR XrResult XRAPI_CALL hookEnumerateSwapchainImages(XrSwapchain swapchai
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL hookAcquireSwapchainImage(XrSwapchain swapchain,
-                                                         const XrSwapchainImageAcquireInfo* info, uint32_t* index) {
+                                                         const XrSwapchainImageAcquireInfo* info,
+                                                         uint32_t* index) {
   return guarded([&] {
     std::shared_ptr<Session> s = registry().swapchainSession(swapchain);
     if (!s) return XR_ERROR_HANDLE_INVALID;
@@ -200,7 +205,8 @@ XRAPI_ATTR XrResult XRAPI_CALL hookAcquireSwapchainImage(XrSwapchain swapchain,
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL hookWaitSwapchainImage(XrSwapchain swapchain, const XrSwapchainImageWaitInfo* info) {
+XRAPI_ATTR XrResult XRAPI_CALL hookWaitSwapchainImage(XrSwapchain swapchain,
+                                                      const XrSwapchainImageWaitInfo* info) {
   return guarded([&] {
     std::shared_ptr<Session> s = registry().swapchainSession(swapchain);
     if (!s) return XR_ERROR_HANDLE_INVALID;
@@ -217,8 +223,9 @@ XRAPI_ATTR XrResult XRAPI_CALL hookReleaseSwapchainImage(XrSwapchain swapchain,
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL hookLocateViews(XrSession session, const XrViewLocateInfo* info, XrViewState* state,
-                                               uint32_t capacity, uint32_t* count, XrView* views) {
+XRAPI_ATTR XrResult XRAPI_CALL hookLocateViews(XrSession session, const XrViewLocateInfo* info,
+                                               XrViewState* state, uint32_t capacity, uint32_t* count,
+                                               XrView* views) {
   return guarded([&] {
     std::shared_ptr<Session> s = registry().session(session);
     if (!s) return XR_ERROR_HANDLE_INVALID;
@@ -242,11 +249,14 @@ XRAPI_ATTR XrResult XRAPI_CALL hookCreateVulkanInstanceKHR(XrInstance instance,
     if (!inst || inst->next.createVulkanInstanceKHR == nullptr) return XR_ERROR_HANDLE_INVALID;
     // The filter core needs Vulkan 1.1: ask for it when the app asks for less (a later version
     // changes nothing for an app written against 1.0). Fall back to the app's request.
-    const VkApplicationInfo* appInfo = (info && info->vulkanCreateInfo) ? info->vulkanCreateInfo->pApplicationInfo : nullptr;
-    const uint32_t asked = (appInfo == nullptr || appInfo->apiVersion == 0) ? VK_API_VERSION_1_0 : appInfo->apiVersion;
+    const VkApplicationInfo* appInfo =
+        (info && info->vulkanCreateInfo) ? info->vulkanCreateInfo->pApplicationInfo : nullptr;
+    const uint32_t asked =
+        (appInfo == nullptr || appInfo->apiVersion == 0) ? VK_API_VERSION_1_0 : appInfo->apiVersion;
     XrResult r = XR_ERROR_RUNTIME_FAILURE;
     if (inst->config.enabled && asked < VK_API_VERSION_1_1) {
-      VkApplicationInfo ai = appInfo ? *appInfo : makeVk<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
+      VkApplicationInfo ai =
+          appInfo ? *appInfo : makeVk<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
       ai.apiVersion = VK_API_VERSION_1_1;
       VkInstanceCreateInfo ci = *info->vulkanCreateInfo;
       ci.pApplicationInfo = &ai;
@@ -257,7 +267,8 @@ XRAPI_ATTR XrResult XRAPI_CALL hookCreateVulkanInstanceKHR(XrInstance instance,
         inst->vulkanApiVersion = VK_API_VERSION_1_1;
         return r;
       }
-      inst->log->log(LogLevel::Warn, "could not create the Vulkan instance as 1.1; filtering may be unavailable");
+      inst->log->log(LogLevel::Warn,
+                     "could not create the Vulkan instance as 1.1; filtering may be unavailable");
     }
     r = inst->next.createVulkanInstanceKHR(instance, info, vkInstance, vkResult);
     if (XR_SUCCEEDED(r)) inst->vulkanApiVersion = asked;
@@ -269,7 +280,8 @@ struct Hook {
   const char* name;
   PFN_xrVoidFunction function;
 };
-#define STEADYXR_HOOK(name, fn) {name, reinterpret_cast<PFN_xrVoidFunction>(fn)}
+#define STEADYXR_HOOK(name, fn) \
+  { name, reinterpret_cast<PFN_xrVoidFunction>(fn) }
 const Hook kHooks[] = {
     STEADYXR_HOOK("xrGetInstanceProcAddr", hookGetInstanceProcAddr),
     STEADYXR_HOOK("xrDestroyInstance", hookDestroyInstance),
@@ -310,7 +322,8 @@ XRAPI_ATTR XrResult XRAPI_CALL hookGetInstanceProcAddr(XrInstance instance, cons
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL createApiLayerInstance(const XrInstanceCreateInfo* info,
-                                                      const XrApiLayerCreateInfo* layerInfo, XrInstance* instance) {
+                                                      const XrApiLayerCreateInfo* layerInfo,
+                                                      XrInstance* instance) {
   return guarded([&] {
     if (info == nullptr || layerInfo == nullptr || instance == nullptr || layerInfo->nextInfo == nullptr ||
         layerInfo->structType != XR_LOADER_INTERFACE_STRUCT_API_LAYER_CREATE_INFO ||
@@ -339,10 +352,11 @@ XRAPI_ATTR XrResult XRAPI_CALL createApiLayerInstance(const XrInstanceCreateInfo
       state->config.enabled = false;
       state->next.getInstanceProcAddr = nextGipa;
     }
-    state->log->log(LogLevel::Info,
-                    std::string(kLayerName) + " loaded for '" + state->applicationName + "': " +
-                        (state->config.enabled ? "enabled, method " + state->config.method : std::string("disabled")) +
-                        (state->config.configFile.empty() ? "" : ", config " + state->config.configFile));
+    state->log->log(
+        LogLevel::Info,
+        std::string(kLayerName) + " loaded for '" + state->applicationName + "': " +
+            (state->config.enabled ? "enabled, method " + state->config.method : std::string("disabled")) +
+            (state->config.configFile.empty() ? "" : ", config " + state->config.configFile));
     registry().addInstance(std::move(state));
     return r;
   });
@@ -355,7 +369,8 @@ STEADYXR_EXPORT XRAPI_ATTR XrResult XRAPI_CALL xrNegotiateLoaderApiLayerInterfac
     const XrNegotiateLoaderInfo* loaderInfo, const char* layerName, XrNegotiateApiLayerRequest* request) {
   using namespace steadyxr::layer;
   if (loaderInfo == nullptr || request == nullptr || layerName == nullptr ||
-      std::strcmp(layerName, kLayerName) != 0 || loaderInfo->structType != XR_LOADER_INTERFACE_STRUCT_LOADER_INFO ||
+      std::strcmp(layerName, kLayerName) != 0 ||
+      loaderInfo->structType != XR_LOADER_INTERFACE_STRUCT_LOADER_INFO ||
       loaderInfo->structVersion != XR_LOADER_INFO_STRUCT_VERSION ||
       loaderInfo->structSize != sizeof(XrNegotiateLoaderInfo) ||
       request->structType != XR_LOADER_INTERFACE_STRUCT_API_LAYER_REQUEST ||

@@ -6,19 +6,32 @@ namespace steadyxr::layer {
 
 std::string_view toString(PassReason r) {
   switch (r) {
-    case PassReason::Disabled: return "disabled";
-    case PassReason::NotVulkan: return "not_vulkan";
-    case PassReason::NoProjectionLayer: return "no_projection_layer";
-    case PassReason::ViewCount: return "view_count";
-    case PassReason::UnknownSwapchain: return "unknown_swapchain";
-    case PassReason::NoReleasedImage: return "no_released_image";
-    case PassReason::UnsupportedFormat: return "unsupported_format";
-    case PassReason::BadImageRect: return "bad_image_rect";
-    case PassReason::MissingPose: return "missing_pose";
-    case PassReason::OutputSwapchain: return "output_swapchain";
-    case PassReason::XrError: return "openxr_error";
-    case PassReason::FilterError: return "filter_error";
-    case PassReason::Count: break;
+    case PassReason::Disabled:
+      return "disabled";
+    case PassReason::NotVulkan:
+      return "not_vulkan";
+    case PassReason::NoProjectionLayer:
+      return "no_projection_layer";
+    case PassReason::ViewCount:
+      return "view_count";
+    case PassReason::UnknownSwapchain:
+      return "unknown_swapchain";
+    case PassReason::NoReleasedImage:
+      return "no_released_image";
+    case PassReason::UnsupportedFormat:
+      return "unsupported_format";
+    case PassReason::BadImageRect:
+      return "bad_image_rect";
+    case PassReason::MissingPose:
+      return "missing_pose";
+    case PassReason::OutputSwapchain:
+      return "output_swapchain";
+    case PassReason::XrError:
+      return "openxr_error";
+    case PassReason::FilterError:
+      return "filter_error";
+    case PassReason::Count:
+      break;
   }
   return "unknown";
 }
@@ -70,7 +83,8 @@ bool isValidFov(const XrFovf& f) {
          f.angleRight < 1.57f && f.angleDown > -1.57f && f.angleUp < 1.57f;
 }
 
-std::optional<PassReason> checkProjection(const XrCompositionLayerProjection& layer, const SwapchainLookup& lookup) {
+std::optional<PassReason> checkProjection(const XrCompositionLayerProjection& layer,
+                                          const SwapchainLookup& lookup) {
   if (layer.viewCount < 1 || layer.viewCount > 2 || layer.views == nullptr) return PassReason::ViewCount;
   for (uint32_t i = 0; i < layer.viewCount; ++i) {
     const XrCompositionLayerProjectionView& v = layer.views[i];
@@ -146,7 +160,8 @@ void FrameRewrite::replaceProjection(uint32_t index, const std::vector<XrSwapcha
   if (index >= layers_.size() || layers_[index]->type != XR_TYPE_COMPOSITION_LAYER_PROJECTION) return;
   const auto& src = *reinterpret_cast<const XrCompositionLayerProjection*>(layers_[index]);
   if (swapchains.size() != src.viewCount) return;
-  std::vector<XrCompositionLayerProjectionView>& views = views_.emplace_back(src.views, src.views + src.viewCount);
+  std::vector<XrCompositionLayerProjectionView>& views =
+      views_.emplace_back(src.views, src.views + src.viewCount);
   for (uint32_t i = 0; i < src.viewCount; ++i) {
     views[i].subImage.swapchain = swapchains[i];
     if (fovs && fovs->size() == src.viewCount) views[i].fov = (*fovs)[i];

@@ -71,7 +71,8 @@ bool isValidPose(const XrPosef& pose);
 bool isValidFov(const XrFovf& fov);
 
 // nullopt: the projection layer can be filtered.
-std::optional<PassReason> checkProjection(const XrCompositionLayerProjection& layer, const SwapchainLookup& lookup);
+std::optional<PassReason> checkProjection(const XrCompositionLayerProjection& layer,
+                                          const SwapchainLookup& lookup);
 
 // The chained XrCompositionLayerDepthInfoKHR of a projection view, if any.
 const XrCompositionLayerDepthInfoKHR* findDepthInfo(const XrCompositionLayerProjectionView& view);

@@ -30,10 +30,13 @@ core::Pose toPose(const XrPosef& p) {
   return out;
 }
 
-core::Fov toFov(const XrFovf& f) { return {f.angleLeft, f.angleRight, f.angleUp, f.angleDown}; }
+core::Fov toFov(const XrFovf& f) {
+  return {f.angleLeft, f.angleRight, f.angleUp, f.angleDown};
+}
 
 VkRect2D toRect(const XrRect2Di& r) {
-  return {{r.offset.x, r.offset.y}, {static_cast<uint32_t>(r.extent.width), static_cast<uint32_t>(r.extent.height)}};
+  return {{r.offset.x, r.offset.y},
+          {static_cast<uint32_t>(r.extent.width), static_cast<uint32_t>(r.extent.height)}};
 }
 
 }  // namespace
@@ -52,7 +55,8 @@ bool loadDispatch(XrInstance i, PFN_xrGetInstanceProcAddr g, Dispatch* d) {
                   load(i, g, "xrEnumerateSwapchainFormats", &d->enumerateSwapchainFormats) &&
                   load(i, g, "xrLocateViews", &d->locateViews) && load(i, g, "xrEndFrame", &d->endFrame) &&
                   load(i, g, "xrCreateReferenceSpace", &d->createReferenceSpace) &&
-                  load(i, g, "xrDestroySpace", &d->destroySpace) && load(i, g, "xrLocateSpace", &d->locateSpace) &&
+                  load(i, g, "xrDestroySpace", &d->destroySpace) &&
+                  load(i, g, "xrLocateSpace", &d->locateSpace) &&
                   load(i, g, "xrResultToString", &d->resultToString);
   load(i, g, "xrCreateVulkanInstanceKHR", &d->createVulkanInstanceKHR);  // optional
   return ok;
@@ -75,7 +79,8 @@ std::string SessionStats::summary() const {
   uint64_t passedTotal = 0;
   for (uint64_t n : passed) passedTotal += n;
   os << "session summary: frames_filtered=" << framesFiltered << " left=" << viewsFiltered[0]
-     << " right=" << viewsFiltered[1] << " frames_passed_through=" << passedTotal << " frames_empty=" << framesEmpty;
+     << " right=" << viewsFiltered[1] << " frames_passed_through=" << passedTotal
+     << " frames_empty=" << framesEmpty;
   if (passedTotal > 0) {
     os << " (";
     bool first = true;
@@ -89,13 +94,16 @@ std::string SessionStats::summary() const {
   char buf[160];
   if (timingFrames > 0) {
     const double n = static_cast<double>(timingFrames);
-    std::snprintf(buf, sizeof buf, " gpu_ms_mean: temporal=%.3f stereo=%.3f other=%.3f total=%.3f (%llu frames)",
+    std::snprintf(buf, sizeof buf,
+                  " gpu_ms_mean: temporal=%.3f stereo=%.3f other=%.3f total=%.3f (%llu frames)",
                   temporalMs / n, stereoMs / n, otherMs / n, totalMs / n,
                   static_cast<unsigned long long>(timingFrames));
   } else {
     std::snprintf(buf, sizeof buf, " gpu_ms_mean: n/a");
   }
   os << buf;
+  if (imuFrames + imuFallbackFrames > 0)
+    os << " imu_frames=" << imuFrames << " imu_fallback=" << imuFallbackFrames;
   return os.str();
 }
 
@@ -120,7 +128,24 @@ Session::Session(std::shared_ptr<InstanceState> instance, XrSession handle,
   if (XR_FAILED(next().createReferenceSpace(handle_, &rci, &viewSpace_))) viewSpace_ = XR_NULL_HANDLE;
 }
 
-Session::~Session() { shutdown(); }
+Session::~Session() {
+  shutdown();
+}
+
+void Session::openImu() {
+  const std::string& device = instance_->config.imuDevice;
+  char defaultSpec[32];
+  std::snprintf(defaultSpec, sizeof defaultSpec, "hid:%04x:%04x", imu::hid::kVendorId, imu::hid::kProductId);
+  const std::string spec = device == "auto" ? std::string(defaultSpec) : device;
+  std::string error;
+  imu_ = imu::openImuPoseSource(spec, &error);
+  if (!imu_) {
+    instance_->log->log(LogLevel::Warn, "pose_source = imu: cannot open '" + spec + "' (" + error +
+                                            "); head speed comes from the runtime's poses");
+  } else {
+    instance_->log->log(LogLevel::Info, "pose_source = imu: reading " + spec);
+  }
+}
 
 bool Session::initFilter() {
   Logger& log = *instance_->log;
@@ -283,13 +308,16 @@ OwnedSwapchain* Session::ensureOutput(AppSwapchain& app) {
   }
   uint32_t n = 0;
   r = next().enumerateSwapchainImages(handle, 0, &n, nullptr);
-  std::vector<XrSwapchainImageVulkanKHR> imgs(n, makeXr<XrSwapchainImageVulkanKHR>(XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR));
+  std::vector<XrSwapchainImageVulkanKHR> imgs(
+      n, makeXr<XrSwapchainImageVulkanKHR>(XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR));
   if (XR_SUCCEEDED(r)) {
-    r = next().enumerateSwapchainImages(handle, n, &n, reinterpret_cast<XrSwapchainImageBaseHeader*>(imgs.data()));
+    r = next().enumerateSwapchainImages(handle, n, &n,
+                                        reinterpret_cast<XrSwapchainImageBaseHeader*>(imgs.data()));
   }
   if (XR_FAILED(r) || n == 0) {
     next().destroySwapchain(handle);
-    instance_->log->once(LogLevel::Warn, "output-enum", xrError("xrEnumerateSwapchainImages (layer output)", r));
+    instance_->log->once(LogLevel::Warn, "output-enum",
+                         xrError("xrEnumerateSwapchainImages (layer output)", r));
     return nullptr;
   }
   std::vector<VkImage> images;
@@ -299,6 +327,17 @@ OwnedSwapchain* Session::ensureOutput(AppSwapchain& app) {
 }
 
 float Session::headSpeed(const XrCompositionLayerProjection& layer, int64_t displayTime) {
+  if (imu_) {
+    // Monado's XrTime is CLOCK_MONOTONIC, the IMU source's host time domain; a runtime with
+    // another clock yields no state near the display time and falls back below.
+    if (const std::optional<imu::HeadState> s = imu_->stateAt(displayTime)) {
+      ++stats_.imuFrames;
+      return s->headSpeedDegPerSec;
+    }
+    ++stats_.imuFallbackFrames;
+    instance_->log->once(LogLevel::Warn, "imu-no-data",
+                         "pose_source = imu: no IMU state at the display time; using the runtime's poses");
+  }
   // The runtime's VIEW space velocity when it reports one, else the change of the submitted
   // head orientation over the change of display time; smoothed either way.
   std::optional<float> raw;
@@ -328,8 +367,8 @@ float Session::headSpeed(const XrCompositionLayerProjection& layer, int64_t disp
   return smoothedSpeed_;
 }
 
-std::optional<PassReason> Session::filterProjection(const XrCompositionLayerProjection& layer, int64_t displayTime,
-                                                    std::vector<XrSwapchain>* outputs) {
+std::optional<PassReason> Session::filterProjection(const XrCompositionLayerProjection& layer,
+                                                    int64_t displayTime, std::vector<XrSwapchain>* outputs) {
   Logger& log = *instance_->log;
   const auto lookup = [this](XrSwapchain s) -> std::optional<SwapchainFacts> {
     auto it = swapchains_.find(s);
@@ -395,7 +434,8 @@ std::optional<PassReason> Session::filterProjection(const XrCompositionLayerProj
     vf.fov = toFov(view.fov);
     if (const XrCompositionLayerDepthInfoKHR* d = findDepthInfo(view)) {
       auto ds = swapchains_.find(d->subImage.swapchain);
-      if (ds != swapchains_.end() && ds->second.facts().hasReleasedImage && isDepthFormat(ds->second.info.format) &&
+      if (ds != swapchains_.end() && ds->second.facts().hasReleasedImage &&
+          isDepthFormat(ds->second.info.format) &&
           (ds->second.info.usageFlags & XR_SWAPCHAIN_USAGE_SAMPLED_BIT)) {
         const XrSwapchainCreateInfo& di = ds->second.info;
         core::DepthRef depth;
@@ -434,12 +474,13 @@ std::optional<PassReason> Session::filterProjection(const XrCompositionLayerProj
       const XrPosef& p = layer.views[0].pose;
       const XrFovf& f = layer.views[0].fov;
       char buf[256];
-      std::snprintf(buf, sizeof buf,
-                    "frame %llu t=%lld view0 q=(%.6f %.6f %.6f %.6f) p=(%.4f %.4f %.4f) fov=(%.4f %.4f %.4f %.4f) "
-                    "speed=%.3f deg/s",
-                    static_cast<unsigned long long>(stats_.framesFiltered), static_cast<long long>(displayTime),
-                    p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z, p.position.x, p.position.y,
-                    p.position.z, f.angleLeft, f.angleRight, f.angleUp, f.angleDown, frame.headSpeedDegPerSec);
+      std::snprintf(
+          buf, sizeof buf,
+          "frame %llu t=%lld view0 q=(%.6f %.6f %.6f %.6f) p=(%.4f %.4f %.4f) fov=(%.4f %.4f %.4f %.4f) "
+          "speed=%.3f deg/s",
+          static_cast<unsigned long long>(stats_.framesFiltered), static_cast<long long>(displayTime),
+          p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z, p.position.x, p.position.y,
+          p.position.z, f.angleLeft, f.angleRight, f.angleUp, f.angleDown, frame.headSpeedDegPerSec);
       log.log(LogLevel::Debug, buf);
     }
     std::string error;

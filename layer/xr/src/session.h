@@ -8,6 +8,7 @@
 #include "rewrite.h"
 #include "steadyxr/core/filter.h"
 #include "steadyxr/core/vulkan_context.h"
+#include "steadyxr/imu/imu_pose_source.h"
 
 #include <array>
 #include <deque>
@@ -79,8 +80,8 @@ class OwnedSwapchain {
 struct AppSwapchain {
   XrSwapchainCreateInfo info{};  // as created (with the layer's added usage)
   std::vector<VkImage> images;
-  std::deque<uint32_t> acquired;    // acquired, not yet released (FIFO per the spec)
-  std::optional<uint32_t> released; // the newest released image: what xrEndFrame shows
+  std::deque<uint32_t> acquired;     // acquired, not yet released (FIFO per the spec)
+  std::optional<uint32_t> released;  // the newest released image: what xrEndFrame shows
   std::unique_ptr<OwnedSwapchain> output;
   SwapchainFacts facts() const;
 };
@@ -93,6 +94,8 @@ struct SessionStats {
   uint64_t timingFrames = 0;
   double temporalMs = 0, stereoMs = 0, otherMs = 0, totalMs = 0;
   uint64_t lastTimingIndex = UINT64_MAX;
+  uint64_t imuFrames = 0;          // frames whose head speed came from the IMU
+  uint64_t imuFallbackFrames = 0;  // pose_source = imu, but no IMU sample near the display time
   std::string summary() const;
 };
 
@@ -120,6 +123,7 @@ class Session {
 
  private:
   bool initFilter();
+  void openImu();
   OwnedSwapchain* ensureOutput(AppSwapchain& app);
   std::optional<PassReason> filterProjection(const XrCompositionLayerProjection& layer, int64_t displayTime,
                                              std::vector<XrSwapchain>* outputs);
@@ -144,6 +148,7 @@ class Session {
   int64_t lastDisplayTime_ = 0;
   XrSpace lastSpace_ = XR_NULL_HANDLE;
   float smoothedSpeed_ = 0.0f;
+  std::unique_ptr<imu::ImuPoseSource> imu_;  // pose_source = imu: head speed from the IMU
   SessionStats stats_;
   ImageDumper dumper_;
   bool mutableFormat_ = false;

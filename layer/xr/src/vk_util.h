@@ -41,9 +41,15 @@ class DeviceHandle {
 inline void destroyCommandPool(VkDevice d, VkCommandPool h, const VkAllocationCallbacks* a) {
   vkDestroyCommandPool(d, h, a);
 }
-inline void destroyFence(VkDevice d, VkFence h, const VkAllocationCallbacks* a) { vkDestroyFence(d, h, a); }
-inline void destroyBuffer(VkDevice d, VkBuffer h, const VkAllocationCallbacks* a) { vkDestroyBuffer(d, h, a); }
-inline void freeMemory(VkDevice d, VkDeviceMemory h, const VkAllocationCallbacks* a) { vkFreeMemory(d, h, a); }
+inline void destroyFence(VkDevice d, VkFence h, const VkAllocationCallbacks* a) {
+  vkDestroyFence(d, h, a);
+}
+inline void destroyBuffer(VkDevice d, VkBuffer h, const VkAllocationCallbacks* a) {
+  vkDestroyBuffer(d, h, a);
+}
+inline void freeMemory(VkDevice d, VkDeviceMemory h, const VkAllocationCallbacks* a) {
+  vkFreeMemory(d, h, a);
+}
 
 using CommandPool = DeviceHandle<VkCommandPool, destroyCommandPool>;
 using Fence = DeviceHandle<VkFence, destroyFence>;

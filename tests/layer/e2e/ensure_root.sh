@@ -8,7 +8,7 @@ cache=${STEADYXR_CACHE_DIR:-$HOME/.cache/steadyxr}
 root=$cache/trixie-root
 stamp=$root/.steadyxr-ready
 packages=(monado-service libopenxr1-monado libopenxr-utils libopenxr-loader1 mesa-vulkan-drivers
-  vulkan-tools xvfb openxr-layer-apidump openxr-layer-corevalidation)
+  vulkan-tools xvfb openxr-layer-apidump openxr-layer-corevalidation libhidapi-hidraw0)
 
 mkdir -p "$cache"
 # One builder at a time; others wait for it and then reuse its result.
@@ -16,6 +16,20 @@ exec 9>"$cache/trixie-root.lock"
 flock 9
 
 if [[ -f $stamp ]]; then
+  # A root cached by an older version of this script may lack a package added since.
+  missing=()
+  for p in "${packages[@]}"; do
+    chroot "$root" dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if ((${#missing[@]} > 0)); then
+    echo "ensure_root: adding ${missing[*]} to the cached root" >&2
+    if ! chroot "$root" /usr/bin/env DEBIAN_FRONTEND=noninteractive bash -c \
+      "apt-get update -q && apt-get install -y -q --no-install-recommends ${missing[*]}" \
+      >"$cache/chroot-apt.log" 2>&1; then
+      tail -n 20 "$cache/chroot-apt.log" >&2
+      exit 1
+    fi
+  fi
   echo "$root"
   exit 0
 fi

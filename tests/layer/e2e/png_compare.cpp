@@ -31,7 +31,8 @@ struct Image {
 
 bool load(const char* path, Image* out) {
   int n = 0;
-  std::unique_ptr<unsigned char, void (*)(void*)> data(stbi_load(path, &out->w, &out->h, &n, 4), stbi_image_free);
+  std::unique_ptr<unsigned char, void (*)(void*)> data(stbi_load(path, &out->w, &out->h, &n, 4),
+                                                       stbi_image_free);
   if (!data) {
     std::fprintf(stderr, "png_compare: cannot read %s\n", path);
     return false;
@@ -102,7 +103,8 @@ int main(int argc, char** argv) {
         outside += !near[p];
       }
     }
-    std::printf("differ=%zu outside=%zu changed=%zu total=%zu\n", differ, outside, changedCount, changed.size());
+    std::printf("differ=%zu outside=%zu changed=%zu total=%zu\n", differ, outside, changedCount,
+                changed.size());
     return 0;
   }
   return usage();
