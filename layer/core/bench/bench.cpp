@@ -1,0 +1,290 @@
+// steadyxr-bench: GPU ms per stereo frame (Vulkan timestamp queries) of each pass and of the
+// default pipeline, beside a plain copy pass measured in the same run, plus the host (CPU) time
+// of the per-frame work in submit(). Figures, not a test.
+#include <vulkan/vulkan.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <glm/gtc/quaternion.hpp>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "steadyxr/core/filter.h"
+#include "steadyxr/core/params.h"
+#include "steadyxr/core/vulkan_context.h"
+
+using namespace steadyxr::core;
+
+namespace {
+
+struct Options {
+  std::vector<VkExtent2D> sizes{{1024, 1024}, {1440, 1600}, {2064, 2208}};
+  std::vector<std::string> methods{"none", "fxaa", "taa", "hmtaa", "vtaa", "hybrid", "stereo", "default"};
+  int iterations = 20;
+  int warmup = 3;
+  std::string csv;
+};
+
+void usage() {
+  std::cout << "usage: steadyxr-bench [--sizes WxH[,WxH...]] [--methods m1,m2,...] [--iterations N]\n"
+               "                      [--warmup N] [--csv FILE]\n"
+               "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to.\n";
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+bool parse(int argc, char** argv, Options* o) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string { return i + 1 < argc ? argv[++i] : ""; };
+    if (a == "--sizes") {
+      o->sizes.clear();
+      for (const auto& s : split(next())) {
+        unsigned w = 0, h = 0;
+        if (std::sscanf(s.c_str(), "%ux%u", &w, &h) != 2 || w == 0 || h == 0) return false;
+        o->sizes.push_back({w, h});
+      }
+    } else if (a == "--methods") {
+      o->methods = split(next());
+    } else if (a == "--iterations") {
+      o->iterations = std::max(1, std::atoi(next().c_str()));
+    } else if (a == "--warmup") {
+      o->warmup = std::max(0, std::atoi(next().c_str()));
+    } else if (a == "--csv") {
+      o->csv = next();
+    } else {
+      return false;
+    }
+  }
+  return !o->sizes.empty() && !o->methods.empty();
+}
+
+// One image with memory; the bench's own RAII (the core's helpers are internal).
+class Image {
+ public:
+  Image(VulkanContext& ctx, VkFormat f, VkExtent2D e, VkImageUsageFlags usage, bool mutableFormat)
+      : ctx_(ctx), format_(f), extent_(e), usage_(usage), mutable_(mutableFormat) {
+    VkImageCreateInfo ici{};
+    ici.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
+    ici.flags = mutableFormat ? VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT | VK_IMAGE_CREATE_EXTENDED_USAGE_BIT : 0;
+    ici.imageType = VK_IMAGE_TYPE_2D;
+    ici.format = f;
+    ici.extent = {e.width, e.height, 1};
+    ici.mipLevels = 1;
+    ici.arrayLayers = 1;
+    ici.samples = VK_SAMPLE_COUNT_1_BIT;
+    ici.tiling = VK_IMAGE_TILING_OPTIMAL;
+    ici.usage = usage;
+    if (vkCreateImage(ctx.device(), &ici, nullptr, &image_) != VK_SUCCESS) throw std::runtime_error("image");
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(ctx.device(), image_, &req);
+    VkMemoryAllocateInfo mai{};
+    mai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+    mai.allocationSize = req.size;
+    mai.memoryTypeIndex = ctx.findMemoryType(req.memoryTypeBits, 0);
+    if (vkAllocateMemory(ctx.device(), &mai, nullptr, &memory_) != VK_SUCCESS)
+      throw std::runtime_error("memory");
+    vkBindImageMemory(ctx.device(), image_, memory_, 0);
+  }
+  ~Image() {
+    vkDestroyImage(ctx_.device(), image_, nullptr);
+    vkFreeMemory(ctx_.device(), memory_, nullptr);
+  }
+  Image(const Image&) = delete;
+  Image& operator=(const Image&) = delete;
+  ImageRef ref(VkImageLayout layout) const {
+    ImageRef r;
+    r.image = image_;
+    r.format = format_;
+    r.extent = extent_;
+    r.rect = {{0, 0}, extent_};
+    r.usage = usage_;
+    r.mutableFormat = mutable_;
+    r.layout = layout;
+    return r;
+  }
+  VkImage image() const { return image_; }
+
+ private:
+  VulkanContext& ctx_;
+  VkFormat format_;
+  VkExtent2D extent_;
+  VkImageUsageFlags usage_;
+  bool mutable_;
+  VkImage image_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+};
+
+// Fills an image with a pattern (clear + a few clears of sub-regions, cheap to record) and leaves it
+// in SHADER_READ_ONLY_OPTIMAL.
+void fillInput(VulkanContext& ctx, VkImage image) {
+  VkCommandPoolCreateInfo cpci{};
+  cpci.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+  cpci.queueFamilyIndex = ctx.queueFamilyIndex();
+  VkCommandPool pool;
+  vkCreateCommandPool(ctx.device(), &cpci, nullptr, &pool);
+  VkCommandBufferAllocateInfo cbai{};
+  cbai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+  cbai.commandPool = pool;
+  cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cbai.commandBufferCount = 1;
+  VkCommandBuffer cmd;
+  vkAllocateCommandBuffers(ctx.device(), &cbai, &cmd);
+  VkCommandBufferBeginInfo bi{};
+  bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+  vkBeginCommandBuffer(cmd, &bi);
+  VkImageMemoryBarrier b{};
+  b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image;
+  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  b.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr,
+                       0, nullptr, 1, &b);
+  const VkClearColorValue base{{0.2f, 0.4f, 0.6f, 1.0f}};
+  const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &base, 1, &range);
+  b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
+                       nullptr, 0, nullptr, 1, &b);
+  vkEndCommandBuffer(cmd);
+  VkSubmitInfo si{};
+  si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmd;
+  vkQueueSubmit(ctx.queue(), 1, &si, VK_NULL_HANDLE);
+  vkQueueWaitIdle(ctx.queue());
+  vkDestroyCommandPool(ctx.device(), pool, nullptr);
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+struct Row {
+  VkExtent2D size;
+  std::string method;
+  double gpuMs, copyMs, hostUs;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options opt;
+  if (!parse(argc, argv, &opt)) {
+    usage();
+    return 2;
+  }
+  std::string err;
+  auto ctx = VulkanContext::createOwned(OwnedContextOptions{}, &err);
+  if (!ctx) {
+    std::cerr << "steadyxr-bench: " << err << "\n";
+    return 1;
+  }
+  std::cout << "device: " << ctx->properties().deviceName << "\n";
+  std::vector<Row> rows;
+  for (const VkExtent2D size : opt.sizes) {
+    const VkImageUsageFlags outUsage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    std::array<std::unique_ptr<Image>, 2> in, out;
+    for (int e = 0; e < 2; ++e) {
+      in[e] = std::make_unique<Image>(*ctx, VK_FORMAT_R8G8B8A8_SRGB, size,
+                                      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, false);
+      out[e] = std::make_unique<Image>(*ctx, VK_FORMAT_R8G8B8A8_SRGB, size, outUsage, true);
+      fillInput(*ctx, in[e]->image());
+    }
+    double copyMs = 0.0;
+    std::vector<std::string> methods = opt.methods;
+    if (std::find(methods.begin(), methods.end(), "none") == methods.end())
+      methods.insert(methods.begin(), "none");
+    for (const std::string& m : methods) {
+      auto params = applyMethodName(m);
+      if (!params) {
+        std::cerr << "unknown method " << m << "\n";
+        return 2;
+      }
+      auto filter = Filter::create(*ctx, *params, &err);
+      if (!filter) {
+        std::cerr << "steadyxr-bench: " << err << "\n";
+        return 1;
+      }
+      std::vector<double> gpu, host;
+      VkImageLayout outLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+      for (int i = 0; i < opt.warmup + opt.iterations; ++i) {
+        StereoFrame f;
+        StereoOutput o;
+        f.headSpeedDegPerSec = 4.0f;
+        for (int e = 0; e < 2; ++e) {
+          f.views[e].color = in[e]->ref(VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+          // small head tremor so every frame really reprojects
+          f.views[e].pose.orientation = glm::angleAxis(0.001f * float(i % 7), glm::vec3(0, 1, 0));
+          f.views[e].pose.position = {e == 0 ? -0.032f : 0.032f, 0.0f, 0.0f};
+          f.views[e].fov = {-0.8f, 0.75f, 0.78f, -0.82f};
+          o.views[e] = out[e]->ref(outLayout);
+          o.views[e].finalLayout = VK_IMAGE_LAYOUT_GENERAL;
+        }
+        filter->waitIdle();  // host time below is the recording/submission only, no GPU wait
+        const auto t0 = std::chrono::steady_clock::now();
+        const bool ok = filter->submit(f, o, &err);
+        const auto t1 = std::chrono::steady_clock::now();
+        if (!ok) {
+          std::cerr << "submit failed: " << err << "\n";
+          return 1;
+        }
+        outLayout = VK_IMAGE_LAYOUT_GENERAL;
+        filter->waitIdle();
+        if (i < opt.warmup) continue;
+        host.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+        if (auto t = filter->lastTimings()) gpu.push_back(t->totalMs);
+      }
+      for (int e = 0; e < 2; ++e) {
+        filter->forgetImage(in[e]->image());
+        filter->forgetImage(out[e]->image());
+      }
+      const double g = median(gpu);
+      if (m == "none") copyMs = g;
+      rows.push_back({size, m == "none" ? "copy (none)" : m, g, copyMs, median(host)});
+      const Row& r = rows.back();
+      std::printf("%5ux%-5u %-14s gpu %8.3f ms  x%5.2f copy  host %7.1f us\n", size.width, size.height,
+                  r.method.c_str(), r.gpuMs, r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0, r.hostUs);
+      std::fflush(stdout);
+    }
+  }
+  std::printf("\n| per-eye size | method | GPU ms / stereo frame | x copy | host us / frame |\n");
+  std::printf("|---|---|---|---|---|\n");
+  for (const Row& r : rows)
+    std::printf("| %ux%u | %s | %.3f | %.2f | %.1f |\n", r.size.width, r.size.height, r.method.c_str(),
+                r.gpuMs, r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0, r.hostUs);
+  if (!opt.csv.empty()) {
+    std::ofstream csv(opt.csv);
+    csv << "width,height,method,gpu_ms,copy_ms,ratio_to_copy,host_us\n";
+    for (const Row& r : rows)
+      csv << r.size.width << "," << r.size.height << "," << r.method << "," << r.gpuMs << "," << r.copyMs
+          << "," << (r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0) << "," << r.hostUs << "\n";
+    if (!csv) {
+      std::cerr << "could not write " << opt.csv << "\n";
+      return 1;
+    }
+  }
+  return 0;
+}
