@@ -35,7 +35,7 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        stereo, default; sweeps as <m>@key=value[@key=value] with keys
                        hmax,wmin,wlb,amin,alpha,gamma,beta,d (default: all + sweeps)
   --resolution WxH     per eye (default 256x256)
-  --frames N           app frames per scenario (default 60)
+  --frames N           app frames per scenario (default 40)
   --seed N             head-motion seed (default 1)
   --app-hz F           app frame rate (default 30)
   --display-hz F       display rate (default 90)

@@ -16,7 +16,7 @@ struct Options {
   std::vector<std::string> methods;  // empty: all (see --help)
   int width = 256;
   int height = 256;
-  int frames = 60;
+  int frames = 40;
   uint64_t seed = 1;
   std::string outDir = "out";
   double appHz = 30.0;
