@@ -4,6 +4,7 @@
 #include "loader_interfaces.h"
 #include "session.h"
 
+#include <algorithm>
 #include <cstring>
 #include <exception>
 #include <map>
@@ -337,14 +338,35 @@ XRAPI_ATTR XrResult XRAPI_CALL createApiLayerInstance(const XrInstanceCreateInfo
     XrApiLayerCreateInfo nextLayerInfo = *layerInfo;
     nextLayerInfo.nextInfo = layerInfo->nextInfo->next;
     const PFN_xrGetInstanceProcAddr nextGipa = layerInfo->nextInfo->nextGetInstanceProcAddr;
-    const XrResult r = layerInfo->nextInfo->nextCreateApiLayerInstance(info, &nextLayerInfo, instance);
+    std::vector<std::string> messages;
+    const Config config = loadConfig(info->applicationInfo.applicationName, processEnvironment(), &messages);
+
+    // pose_source = imu needs XrTime -> CLOCK_MONOTONIC: enable XR_KHR_convert_timespec_time
+    // for the layer's own use; without it (runtime lacks it) create the instance as asked.
+    XrResult r = XR_ERROR_EXTENSION_NOT_PRESENT;
+    bool timespecAdded = false;
+    if (config.enabled && config.poseSource == PoseSourceKind::Imu) {
+      std::vector<const char*> exts(info->enabledExtensionNames,
+                                    info->enabledExtensionNames + info->enabledExtensionCount);
+      const bool present = std::any_of(exts.begin(), exts.end(), [](const char* e) {
+        return std::strcmp(e, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME) == 0;
+      });
+      if (!present) {
+        exts.push_back(XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME);
+        XrInstanceCreateInfo withTimespec = *info;
+        withTimespec.enabledExtensionCount = static_cast<uint32_t>(exts.size());
+        withTimespec.enabledExtensionNames = exts.data();
+        r = layerInfo->nextInfo->nextCreateApiLayerInstance(&withTimespec, &nextLayerInfo, instance);
+        timespecAdded = XR_SUCCEEDED(r);
+      }
+    }
+    if (!timespecAdded) r = layerInfo->nextInfo->nextCreateApiLayerInstance(info, &nextLayerInfo, instance);
     if (XR_FAILED(r)) return r;
 
     auto state = std::make_shared<InstanceState>();
     state->handle = *instance;
     state->applicationName = info->applicationInfo.applicationName;
-    std::vector<std::string> messages;
-    state->config = loadConfig(state->applicationName, processEnvironment(), &messages);
+    state->config = config;
     state->log = std::make_unique<Logger>(state->config.logLevel, state->config.logFile);
     for (const std::string& m : messages) state->log->log(LogLevel::Warn, m);
     if (!loadDispatch(*instance, nextGipa, &state->next)) {

@@ -2,7 +2,11 @@
 // copies of the app's structs that point at the layer's own swapchains. No OpenXR calls here.
 #pragma once
 
+#include <time.h>
 #include <vulkan/vulkan.h>
+#ifndef XR_USE_TIMESPEC
+#define XR_USE_TIMESPEC
+#endif
 #ifndef XR_USE_GRAPHICS_API_VULKAN
 #define XR_USE_GRAPHICS_API_VULKAN
 #endif

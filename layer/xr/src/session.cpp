@@ -58,7 +58,8 @@ bool loadDispatch(XrInstance i, PFN_xrGetInstanceProcAddr g, Dispatch* d) {
                   load(i, g, "xrDestroySpace", &d->destroySpace) &&
                   load(i, g, "xrLocateSpace", &d->locateSpace) &&
                   load(i, g, "xrResultToString", &d->resultToString);
-  load(i, g, "xrCreateVulkanInstanceKHR", &d->createVulkanInstanceKHR);  // optional
+  load(i, g, "xrCreateVulkanInstanceKHR", &d->createVulkanInstanceKHR);     // optional
+  load(i, g, "xrConvertTimeToTimespecTimeKHR", &d->convertTimeToTimespec);  // optional
   return ok;
 }
 
@@ -122,6 +123,7 @@ Session::Session(std::shared_ptr<InstanceState> instance, XrSession handle,
   binding_.next = nullptr;
   filtering_ = initFilter();
   if (!filtering_) return;
+  if (instance_->config.poseSource == PoseSourceKind::Imu) openImu();
   auto rci = makeXr<XrReferenceSpaceCreateInfo>(XR_TYPE_REFERENCE_SPACE_CREATE_INFO);
   rci.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_VIEW;
   rci.poseInReferenceSpace.orientation.w = 1.0f;
@@ -328,9 +330,15 @@ OwnedSwapchain* Session::ensureOutput(AppSwapchain& app) {
 
 float Session::headSpeed(const XrCompositionLayerProjection& layer, int64_t displayTime) {
   if (imu_) {
-    // Monado's XrTime is CLOCK_MONOTONIC, the IMU source's host time domain; a runtime with
-    // another clock yields no state near the display time and falls back below.
-    if (const std::optional<imu::HeadState> s = imu_->stateAt(displayTime)) {
+    // XrTime -> CLOCK_MONOTONIC (the IMU source's host time domain) through
+    // XR_KHR_convert_timespec_time, which the layer enables when pose_source = imu.
+    std::optional<int64_t> hostNs;
+    timespec ts{};
+    if (next().convertTimeToTimespec != nullptr &&
+        XR_SUCCEEDED(next().convertTimeToTimespec(instance_->handle, displayTime, &ts))) {
+      hostNs = int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+    }
+    if (const std::optional<imu::HeadState> s = hostNs ? imu_->stateAt(*hostNs) : std::nullopt) {
       ++stats_.imuFrames;
       return s->headSpeedDegPerSec;
     }

@@ -42,7 +42,8 @@ struct Dispatch {
   PFN_xrDestroySpace destroySpace = nullptr;
   PFN_xrLocateSpace locateSpace = nullptr;
   PFN_xrResultToString resultToString = nullptr;
-  PFN_xrCreateVulkanInstanceKHR createVulkanInstanceKHR = nullptr;  // XR_KHR_vulkan_enable2 only
+  PFN_xrCreateVulkanInstanceKHR createVulkanInstanceKHR = nullptr;     // XR_KHR_vulkan_enable2 only
+  PFN_xrConvertTimeToTimespecTimeKHR convertTimeToTimespec = nullptr;  // XR_KHR_convert_timespec_time
 };
 bool loadDispatch(XrInstance instance, PFN_xrGetInstanceProcAddr gipa, Dispatch* out);
 

@@ -3,7 +3,10 @@
 # hello_xr 1.1.47, real Vulkan (lavapipe), with Khronos' core_validation layer behind ours.
 # Everything runs inside a cached Debian trixie root (see ensure_root.sh).
 #
-#   run_e2e.sh LAYER_SO PNG_COMPARE OUT_DIR
+#   run_e2e.sh LAYER_SO PNG_COMPARE OUT_DIR [IMU_EMULATOR]
+#
+# With IMU_EMULATOR (steadyxr-imu-emu) a further run uses pose_source = imu, fed by the
+# emulator over a Unix socket, and checks that the head speed came from the IMU.
 #
 # Environment: STEADYXR_CACHE_DIR (root cache, default ~/.cache/steadyxr), STEADYXR_E2E_SECONDS
 # (length of each hello_xr run, default 8), STEADYXR_E2E_XVFB=0 skips the main-compositor run.
@@ -13,6 +16,8 @@ set -uo pipefail
 layer_so=$(readlink -f "${1:?layer .so}")
 png_compare=$(readlink -f "${2:?png_compare}")
 out=${3:?output dir}
+imu_emu=${4:-}
+[[ -z $imu_emu ]] || imu_emu=$(readlink -f "$imu_emu")
 seconds=${STEADYXR_E2E_SECONDS:-8}
 here=$(cd "$(dirname "$0")" && pwd)
 layer_name=XR_APILAYER_STEADYXR_head_taa
@@ -92,6 +97,13 @@ run_case() {
   mkdir -p "$hdir/xdg" "$hdir/dump"
   chmod 700 "$hdir/xdg"
   local env=("${base_env[@]}" XDG_RUNTIME_DIR=$dir/xdg)
+  local layer_env=()
+  if [[ $case_name == imu ]]; then
+    "$imu_emu" --motion pursuit --duration 600 --out "socket:$hdir/imu.sock" >"$hdir/imu-emu.log" 2>&1 &
+    pids+=($!)
+    for _ in $(seq 50); do [[ -S $hdir/imu.sock ]] && break; sleep 0.1; done
+    layer_env=(STEADYXR_POSE_SOURCE=imu STEADYXR_IMU_DEVICE=socket:$dir/imu.sock)
+  fi
   if [[ $compositor == xcb ]]; then
     local display=:$((90 + $$ % 9))
     chroot "$root" /usr/bin/env -i "${env[@]}" Xvfb "$display" -screen 0 1920x1080x24 -nolisten tcp \
@@ -122,7 +134,7 @@ run_case() {
     XR_API_LAYER_PATH="$inroot/layer:/usr/share/openxr/1/api_layers/explicit.d" \
     XR_ENABLE_API_LAYERS="$layer_name:XR_APILAYER_LUNARG_core_validation" \
     XR_CORE_VALIDATION_EXPORT_TYPE=text XR_CORE_VALIDATION_FILE_NAME="$dir/core_validation.txt" \
-    STEADYXR_METHOD="$method" STEADYXR_DUMP_FRAMES="$dump" STEADYXR_DUMP_DIR="$dir/dump" STEADYXR_LOG_LEVEL=${STEADYXR_E2E_LOG_LEVEL:-info} \
+    "${layer_env[@]}" STEADYXR_METHOD="$method" STEADYXR_DUMP_FRAMES="$dump" STEADYXR_DUMP_DIR="$dir/dump" STEADYXR_LOG_LEVEL=${STEADYXR_E2E_LOG_LEVEL:-info} \
     hello_xr -g Vulkan2 -vc Stereo >"$hdir/hello_xr.log" 2>&1
   local app_rc=${PIPESTATUS[1]}
   cleanup
@@ -149,6 +161,11 @@ run_case() {
     grep -E "VALID_ERROR" "$cv" | head -n 10
   else
     echo "[$case_name] core_validation: no errors ($(wc -l <"$cv") report lines)"
+  fi
+  if [[ $case_name == imu ]]; then
+    local imu_frames
+    imu_frames=$(sed -n 's/.*imu_frames=\([0-9]*\).*/\1/p' <<<"$summary")
+    ((${imu_frames:-0} >= min_frames)) || fail "head speed came from the IMU in only ${imu_frames:-0} frames"
   fi
   echo "$case_name filtered=$filtered left=$left right=$right passed=$passed rc=$app_rc" >>"$out/results.txt"
 }
@@ -206,6 +223,9 @@ check_equal none
 # pixels) still catches a filter that shifts, blurs or corrupts the image.
 run_case default default null 8 40
 check_changes default 5
+if [[ -n $imu_emu ]]; then
+  run_case imu default null 0 40
+fi
 if [[ ${STEADYXR_E2E_XVFB:-1} != 0 ]]; then
   # 896x1007 per eye: lavapipe filters only a few frames per second there.
   run_case xvfb default xcb 0 3
