@@ -194,4 +194,34 @@ TEST(Emulator, ProgramWritesReportsAndAReplayableGroundTruth) {
   std::filesystem::remove(bin);
   std::filesystem::remove(truth);
 }
+
+TEST(Emulator, ProgramServesASocketInRealTime) {
+  // A separate emulator process pacing reports in real time; the reader maps them to host time.
+  const std::string sock = tempPath("emu.sock");
+  std::filesystem::remove(sock);
+  const std::string cmd = std::string(STEADYXR_IMU_EMU) +
+                          " --motion pursuit --duration 0.6 --out socket:" + sock + " 2>/dev/null &";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::string error;
+  std::unique_ptr<ImuPoseSource> src;
+  for (int i = 0; i < 200 && !src; ++i) {  // until the emulator listens
+    src = openImuPoseSource("socket:" + sock, &error);
+    if (!src) std::this_thread::sleep_for(10ms);
+  }
+  ASSERT_TRUE(src) << error;
+  const int64_t start = monotonicNowNs();
+  ASSERT_TRUE(src->waitForSamples(300, 5s));
+  const auto newest = src->history().newestTimeNs();
+  ASSERT_TRUE(newest);
+  EXPECT_NEAR(static_cast<double>(*newest), static_cast<double>(monotonicNowNs()),
+              50e6);  // host clock, +-50 ms
+  EXPECT_GT(*newest, start);
+  // Samples keep their device spacing on the host clock: 250 ms ago lies inside the history.
+  const auto first = src->stateAt(*newest - 250'000'000);
+  ASSERT_TRUE(first);
+  EXPECT_FALSE(first->predicted);
+  for (int i = 0; i < 300 && src->stats().running; ++i) std::this_thread::sleep_for(10ms);  // emulator exits
+  EXPECT_FALSE(src->stats().running);
+  EXPECT_EQ(src->stats().parser.droppedReports, 0u);
+}
 #endif
