@@ -13,7 +13,7 @@ exe, out, plot = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(out, ignore_errors=True)
 cmd = [exe, "--out", out, "--resolution", "48x48", "--frames", "4", "--gt-grid", "2", "--warp-steps", "2",
        "--scenes", "imageviewer,moving", "--motions", "fixation", "--images", "astronaut",
-       "--methods", "none,msaa2,taa,hmtaa+stereo,default,hmtaa@hmax=10", "--no-progress"]
+       "--methods", "none,msaa4,taa,hmtaa+stereo,default,hmtaa@hmax=10", "--no-progress"]
 res = subprocess.run(cmd, capture_output=True, text=True, timeout=200)
 print(res.stdout[-3000:])
 print(res.stderr[-3000:], file=sys.stderr)
