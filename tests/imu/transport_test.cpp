@@ -120,6 +120,19 @@ TEST(ImuPoseSource, SpecErrorsAreReportedNotThrown) {
   }
 }
 
+TEST(ReportSink, BadSpecsAndAMissingUhidAreErrors) {
+  std::string error;
+  for (const char* bad : {"", "file:", "tcp:1234", "file:/nonexistent/dir/x.bin"}) {
+    error.clear();
+    EXPECT_FALSE(openReportSink(bad, &error)) << bad;
+    EXPECT_FALSE(error.empty()) << bad;
+  }
+  if (access("/dev/uhid", F_OK) != 0) {
+    EXPECT_FALSE(openReportSink("uhid", &error));
+    EXPECT_NE(error.find("/dev/uhid"), std::string::npos) << error;
+  }
+}
+
 TEST(ImuPoseSource, HidapiOpensByVidPidOrFailsCleanly) {
   // Real hidapi: enumerate and open. On a machine without the device this must fail with a
   // clear error and no crash; where an emulated (uhid) device exists, it opens.
