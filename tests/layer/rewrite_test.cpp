@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <map>
 
@@ -156,6 +157,27 @@ TEST(Rewrite, UnjitteredFov) {
   const auto* copy = reinterpret_cast<const XrCompositionLayerProjection*>(rw.info().layers[0]);
   EXPECT_FLOAT_EQ(copy->views[1].fov.angleLeft, -0.6f);
   EXPECT_FLOAT_EQ(views[1].fov.angleLeft, -0.7f);
+}
+
+TEST(Jitter, HaltonAndFovShift) {
+  EXPECT_FLOAT_EQ(halton(1, 2), 0.5f);
+  EXPECT_FLOAT_EQ(halton(2, 2), 0.25f);
+  EXPECT_FLOAT_EQ(halton(3, 2), 0.75f);
+  EXPECT_NEAR(halton(1, 3), 1.0f / 3.0f, 1e-6f);
+  EXPECT_NEAR(halton(2, 3), 2.0f / 3.0f, 1e-6f);
+  const XrFovf fov{-0.7f, 0.6f, 0.5f, -0.8f};
+  const XrFovf same = jitterFov(fov, 0.0f, 0.0f, 320, 240);
+  EXPECT_NEAR(same.angleLeft, fov.angleLeft, 1e-6f);
+  EXPECT_NEAR(same.angleUp, fov.angleUp, 1e-6f);
+  // Half a pixel right and a quarter pixel down, measured in tangent space.
+  const XrFovf j = jitterFov(fov, 0.5f, 0.25f, 320, 240);
+  const float pxX = (std::tan(fov.angleRight) - std::tan(fov.angleLeft)) / 320.0f;
+  const float pxY = (std::tan(fov.angleUp) - std::tan(fov.angleDown)) / 240.0f;
+  EXPECT_NEAR(std::tan(j.angleLeft) - std::tan(fov.angleLeft), 0.5f * pxX, 1e-5f);
+  EXPECT_NEAR(std::tan(j.angleRight) - std::tan(fov.angleRight), 0.5f * pxX, 1e-5f);
+  EXPECT_NEAR(std::tan(fov.angleUp) - std::tan(j.angleUp), 0.25f * pxY, 1e-5f);
+  EXPECT_NEAR(std::tan(fov.angleDown) - std::tan(j.angleDown), 0.25f * pxY, 1e-5f);
+  EXPECT_TRUE(isValidFov(j));
 }
 
 TEST(Swapchains, UsageAndOutputInfo) {

@@ -230,7 +230,7 @@ XRAPI_ATTR XrResult XRAPI_CALL hookLocateViews(XrSession session, const XrViewLo
   return guarded([&] {
     std::shared_ptr<Session> s = registry().session(session);
     if (!s) return XR_ERROR_HANDLE_INVALID;
-    return s->next().locateViews(session, info, state, capacity, count, views);
+    return s->locateViews(info, state, capacity, count, views);
   });
 }
 

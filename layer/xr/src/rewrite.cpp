@@ -150,6 +150,26 @@ VkImageUsageFlags vulkanUsage(XrSwapchainUsageFlags u) {
   return v;
 }
 
+float halton(uint32_t index, uint32_t base) {
+  float f = 1.0f;
+  float r = 0.0f;
+  for (uint32_t i = index; i > 0; i /= base) {
+    f /= static_cast<float>(base);
+    r += f * static_cast<float>(i % base);
+  }
+  return r;
+}
+
+XrFovf jitterFov(const XrFovf& fov, float dxPx, float dyPx, uint32_t width, uint32_t height) {
+  if (width == 0 || height == 0) return fov;
+  // Shift in tangent space: the projection is linear in tan(angle) across the image.
+  const float tl = std::tan(fov.angleLeft), tr = std::tan(fov.angleRight);
+  const float tu = std::tan(fov.angleUp), td = std::tan(fov.angleDown);
+  const float dx = dxPx * (tr - tl) / static_cast<float>(width);
+  const float dy = dyPx * (tu - td) / static_cast<float>(height);
+  return {std::atan(tl + dx), std::atan(tr + dx), std::atan(tu - dy), std::atan(td - dy)};
+}
+
 FrameRewrite::FrameRewrite(const XrFrameEndInfo& app) : info_(app) {
   layers_.assign(app.layers, app.layers + app.layerCount);
   info_.layers = layers_.data();

@@ -88,6 +88,12 @@ XrSwapchainCreateInfo outputSwapchainInfo(const XrSwapchainCreateInfo& app, bool
 // Vulkan usage bits implied by OpenXR swapchain usage bits (what the runtime must at least set).
 VkImageUsageFlags vulkanUsage(XrSwapchainUsageFlags usage);
 
+// Halton low-discrepancy sequence value in [0, 1) (index >= 1).
+float halton(uint32_t index, uint32_t base);
+// The fov whose image grid is shifted by (dxPx, dyPx) pixels of a width x height image
+// (x right, y down): the sub-pixel jitter the layer can inject through xrLocateViews.
+XrFovf jitterFov(const XrFovf& fov, float dxPx, float dyPx, uint32_t width, uint32_t height);
+
 // Owns the copies handed to the next xrEndFrame. The app's structs are never modified; the
 // copies keep the app's `next` chains (depth info still names the app's depth swapchain).
 class FrameRewrite {

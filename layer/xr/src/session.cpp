@@ -521,6 +521,26 @@ std::optional<PassReason> Session::filterProjection(const XrCompositionLayerProj
   return failure;
 }
 
+XrResult Session::locateViews(const XrViewLocateInfo* info, XrViewState* state, uint32_t capacity,
+                              uint32_t* count, XrView* views) {
+  const XrResult r = next().locateViews(handle_, info, state, capacity, count, views);
+  if (XR_FAILED(r) || !instance_->config.jitter || !filtering_ || info == nullptr || views == nullptr ||
+      count == nullptr || *count == 0 || *count > 2 || capacity < *count) {
+    return r;
+  }
+  std::lock_guard lock(mutex_);
+  if (viewSize_[0].width == 0) return r;  // sizes known after the first filtered frame
+  // Halton(2,3) in [-0.5, 0.5) pixels, the usual TAA jitter pattern (period 8).
+  jitterIndex_ = jitterIndex_ % 8 + 1;
+  const float dx = halton(jitterIndex_, 2) - 0.5f;
+  const float dy = halton(jitterIndex_, 3) - 0.5f;
+  for (uint32_t i = 0; i < *count; ++i) {
+    const VkExtent2D size = viewSize_[i].width ? viewSize_[i] : viewSize_[0];
+    views[i].fov = jitterFov(views[i].fov, dx, dy, size.width, size.height);
+  }
+  return r;
+}
+
 XrResult Session::endFrame(const XrFrameEndInfo* info) {
   if (info == nullptr || !filtering_) {
     if (info != nullptr && vulkanSession_) countUnfiltered(*info);
@@ -543,7 +563,13 @@ XrResult Session::endFrame(const XrFrameEndInfo* info) {
     std::vector<XrSwapchain> outputs;
     reason = filterProjection(proj, info->displayTime, &outputs);
     if (!reason) {
+      // With jitter on, the submitted fov stays the jittered one the app rendered with: the
+      // filter's output lies on that grid, and the compositor must place it there.
       rewrite.replaceProjection(i, outputs);
+      for (uint32_t v = 0; v < proj.viewCount && v < 2; ++v) {
+        viewSize_[v] = {static_cast<uint32_t>(proj.views[v].subImage.imageRect.extent.width),
+                        static_cast<uint32_t>(proj.views[v].subImage.imageRect.extent.height)};
+      }
       ++stats_.framesFiltered;
       for (uint32_t v = 0; v < proj.viewCount; ++v) ++stats_.viewsFiltered[v];
     }

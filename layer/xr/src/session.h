@@ -119,6 +119,8 @@ class Session {
   XrResult acquire(XrSwapchain swapchain, const XrSwapchainImageAcquireInfo* info, uint32_t* index);
   XrResult release(XrSwapchain swapchain, const XrSwapchainImageReleaseInfo* info);
   XrResult endFrame(const XrFrameEndInfo* info);
+  XrResult locateViews(const XrViewLocateInfo* info, XrViewState* state, uint32_t capacity, uint32_t* count,
+                       XrView* views);
   // Waits for the GPU, logs the summary and destroys what the layer created in the session.
   void shutdown();
 
@@ -153,6 +155,9 @@ class Session {
   SessionStats stats_;
   ImageDumper dumper_;
   bool mutableFormat_ = false;
+  // jitter = on: sub-pixel Halton offsets injected into xrLocateViews' fov.
+  std::array<VkExtent2D, 2> viewSize_{};  // pixel size of each view's last filtered rect
+  uint32_t jitterIndex_ = 0;
 };
 
 }  // namespace steadyxr::layer

@@ -9,7 +9,7 @@
 # emulator over a Unix socket, and checks that the head speed came from the IMU.
 #
 # Environment: STEADYXR_CACHE_DIR (root cache, default ~/.cache/steadyxr), STEADYXR_E2E_SECONDS
-# (length of each hello_xr run, default 8), STEADYXR_E2E_XVFB=0 skips the main-compositor run.
+# (length of each hello_xr run, default 10), STEADYXR_E2E_XVFB=0 skips the main-compositor run.
 # Exit: 0 pass, 1 fail, 77 skipped (no debootstrap / no Debian mirror).
 set -uo pipefail
 
@@ -18,7 +18,7 @@ png_compare=$(readlink -f "${2:?png_compare}")
 out=${3:?output dir}
 imu_emu=${4:-}
 [[ -z $imu_emu ]] || imu_emu=$(readlink -f "$imu_emu")
-seconds=${STEADYXR_E2E_SECONDS:-8}
+seconds=${STEADYXR_E2E_SECONDS:-10}
 here=$(cd "$(dirname "$0")" && pwd)
 layer_name=XR_APILAYER_STEADYXR_head_taa
 
