@@ -8,6 +8,16 @@
 
 layout(local_size_x = 16, local_size_y = 8) in;
 
+// Per-pipeline switches as specialisation constants: llvmpipe runs both sides of every branch
+// under an execution mask, so a uniform switch still costs every path; constants fold away.
+layout(constant_id = 0) const int kMode = 0;          // temporal: 0 taa, 1 hmtaa, 2 vtaa, 3 hybrid
+layout(constant_id = 1) const int kSampleCount = 1;   // hmtaa/hybrid past samples (1..4)
+layout(constant_id = 2) const bool kWriteOut = true;  // write uOut
+layout(constant_id = 3) const bool kWriteHist = false;
+layout(constant_id = 4) const bool kEncodeSrgb = false;
+layout(constant_id = 5) const bool kSwapRB = false;
+layout(constant_id = 6) const int kDepthBits = 0;     // bit0: this eye's depth, bit1: other eye's
+
 layout(set = 0, binding = 0) uniform sampler2D uSrc0;    // current colour / this eye
 layout(set = 0, binding = 1) uniform sampler2D uSrc1;    // history / other eye
 layout(set = 0, binding = 2) uniform sampler2D uDepth0;  // this eye's depth (texelFetch only)
@@ -28,8 +38,8 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   vec4 depth1;
   vec4 w0;            // taaAlpha, clipGamma, alphaMin, shape S of Eq. 4 (1 = h > h_max)
   vec4 w1;            // wMin, wLowerBound, depthTolerance, fallback 1/z (no depth)
-  ivec4 flags;        // mode, sampleCount, historyValid, writeOut
-  ivec4 flags2;       // encodeSrgb, swapRB, writeHist, hasDepth (bit0 this, bit1 other)
+  ivec4 flags;        // (mode), (sampleCount), historyValid, (writeOut); () = spec constant now
+  ivec4 flags2;       // (encodeSrgb), (swapRB), (writeHist), (hasDepth)
   ivec4 outOffset;    // xy where pixel (0,0) goes in uOut
 } P;
 
@@ -45,9 +55,18 @@ vec3 fetchSrc0(ivec2 p) {
 }
 
 // Bilinear sample of src1 at continuous pixel coords q (pixel centres at +0.5) of its rect.
+// Manual bilinear from four texelFetch: on llvmpipe this is several times cheaper than the
+// sampler's filtered path, and it is exact (no 8-bit sub-texel weight quantisation).
 vec3 sampleSrc1(vec2 q) {
-  q = clamp(q, vec2(0.5), vec2(P.src1Rect.zw) - 0.5);
-  return sanitize(textureLod(uSrc1, (vec2(P.src1Rect.xy) + q) * P.src1InvExtent.xy, 0.0).rgb);
+  q = clamp(q, vec2(0.5), vec2(P.src1Rect.zw) - 0.5) - 0.5;
+  ivec2 i0 = ivec2(q);  // q >= 0 here, so truncation is floor
+  vec2 f = q - vec2(i0);
+  ivec2 i1 = min(i0 + 1, P.src1Rect.zw - 1);
+  i0 += P.src1Rect.xy;
+  i1 += P.src1Rect.xy;
+  vec3 a = texelFetch(uSrc1, i0, 0).rgb, b = texelFetch(uSrc1, ivec2(i1.x, i0.y), 0).rgb;
+  vec3 c = texelFetch(uSrc1, ivec2(i0.x, i1.y), 0).rgb, d = texelFetch(uSrc1, i1, 0).rgb;
+  return sanitize(mix(mix(a, b, f.x), mix(c, d, f.x), f.y));
 }
 
 float invZFromDepth(float d, vec4 dp) {
@@ -61,11 +80,11 @@ float linearToSrgb1(float c) {
 
 void writeOutput(ivec2 p, vec3 c) {
   vec4 o = vec4(c, 1.0);
-  if (P.flags2.x != 0) {
+  if (kEncodeSrgb) {
     o.rgb = clamp(o.rgb, 0.0, 1.0);
     o.rgb = vec3(linearToSrgb1(o.r), linearToSrgb1(o.g), linearToSrgb1(o.b));
   }
-  if (P.flags2.y != 0) o = o.bgra;
+  if (kSwapRB) o = o.bgra;
   imageStore(uOut, P.outOffset.xy + p, o);
 }
 

@@ -7,6 +7,6 @@ void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(p, P.src0Rect.zw))) return;
   vec3 c = sanitize(texelFetch(uSrc0, P.src0Rect.xy + p, 0).rgb);
-  if (P.flags2.z != 0) imageStore(uHistOut, p, vec4(c, 1.0));
-  if (P.flags.w != 0) writeOutput(p, c);
+  if (kWriteHist) imageStore(uHistOut, p, vec4(c, 1.0));
+  if (kWriteOut) writeOutput(p, c);
 }

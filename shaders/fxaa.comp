@@ -85,6 +85,6 @@ void main() {
     finalOffset = max(finalOffset, subOffset);
     result = sampleAt(pc + across * (finalOffset * stepLen));
   }
-  if (P.flags2.z != 0) imageStore(uHistOut, p, vec4(result, 1.0));
-  if (P.flags.w != 0) writeOutput(p, result);
+  if (kWriteHist) imageStore(uHistOut, p, vec4(result, 1.0));
+  if (kWriteOut) writeOutput(p, result);
 }

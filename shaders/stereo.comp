@@ -19,8 +19,8 @@ void main() {
   vec3 mn = m1 / 9.0;
   vec3 var = max(m2 / 9.0 - mn * mn, vec3(0.0));
 
-  bool hasThis = (P.flags2.w & 1) != 0;
-  bool hasOther = (P.flags2.w & 2) != 0;
+  bool hasThis = (kDepthBits & 1) != 0;
+  bool hasOther = (kDepthBits & 2) != 0;
   float invZ = P.w1.w;
   if (hasThis) invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + p, 0).r, P.depth0);
 

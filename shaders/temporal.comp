@@ -14,18 +14,24 @@ vec3 toYCoCg(vec3 c) {
 }
 vec3 fromYCoCg(vec3 y) { return vec3(y.x + y.y - y.z, y.x + y.z, y.x - y.y - y.z); }
 
+void addSample(mat4 m, float w, vec2 pc, float invZ, inout vec3 past, inout float wsum) {
+  vec2 q;
+  float iz;
+  if (reproject(m, pc, invZ, q, iz)) {
+    past += w * sampleSrc1(q);
+    wsum += w;
+  }
+}
+
 // Seed 003 Eq. 1/2: W-weighted sum of the interpolated reprojections; false if none is valid.
+// Constant array indices (no loop): llvmpipe turns a dynamically indexed UBO matrix into gathers.
 bool pastColour(vec2 pc, float invZ, out vec3 past) {
   past = vec3(0.0);
   float wsum = 0.0;
-  for (int i = 0; i < P.flags.y; ++i) {
-    vec2 q;
-    float iz;
-    if (reproject(P.reproj[i], pc, invZ, q, iz)) {
-      past += P.sampleW[i] * sampleSrc1(q);
-      wsum += P.sampleW[i];
-    }
-  }
+  addSample(P.reproj[0], P.sampleW[0], pc, invZ, past, wsum);
+  if (kSampleCount > 1) addSample(P.reproj[1], P.sampleW[1], pc, invZ, past, wsum);
+  if (kSampleCount > 2) addSample(P.reproj[2], P.sampleW[2], pc, invZ, past, wsum);
+  if (kSampleCount > 3) addSample(P.reproj[3], P.sampleW[3], pc, invZ, past, wsum);
   if (wsum <= 0.0) return false;
   past /= wsum;  // renormalise over the samples that landed inside the previous image
   return true;
@@ -45,12 +51,12 @@ void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = P.src0Rect.zw;
   if (any(greaterThanEqual(p, size))) return;
-  int mode = P.flags.x;
+  const int mode = kMode;
   vec2 pc = vec2(p) + 0.5;
   vec3 cur = fetchSrc0(p);
 
   float invZ = P.w1.w;
-  if ((P.flags2.w & 1) != 0) invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + p, 0).r, P.depth0);
+  if ((kDepthBits & 1) != 0) invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + p, 0).r, P.depth0);
 
   vec3 result = cur;
   if (P.flags.z != 0) {
@@ -102,6 +108,6 @@ void main() {
     }
   }
   if (any(isnan(result)) || any(isinf(result))) result = cur;
-  if (P.flags2.z != 0) imageStore(uHistOut, p, vec4(result, 1.0));
-  if (P.flags.w != 0) writeOutput(p, result);
+  if (kWriteHist) imageStore(uHistOut, p, vec4(result, 1.0));
+  if (kWriteOut) writeOutput(p, result);
 }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <glm/gtc/quaternion.hpp>
 #include <iostream>
@@ -32,11 +33,12 @@ struct Options {
   int iterations = 20;
   int warmup = 3;
   std::string csv;
+  VkFormat format = VK_FORMAT_R8G8B8A8_SRGB;  // of the app's input and output images
 };
 
 void usage() {
   std::cout << "usage: steadyxr-bench [--sizes WxH[,WxH...]] [--methods m1,m2,...] [--iterations N]\n"
-               "                      [--warmup N] [--csv FILE]\n"
+               "                      [--warmup N] [--format srgb8|unorm8|rgba16f] [--csv FILE]\n"
                "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to.\n";
 }
 
@@ -65,6 +67,16 @@ bool parse(int argc, char** argv, Options* o) {
       o->iterations = std::max(1, std::atoi(next().c_str()));
     } else if (a == "--warmup") {
       o->warmup = std::max(0, std::atoi(next().c_str()));
+    } else if (a == "--format") {
+      const std::string f = next();
+      if (f == "srgb8")
+        o->format = VK_FORMAT_R8G8B8A8_SRGB;
+      else if (f == "unorm8")
+        o->format = VK_FORMAT_R8G8B8A8_UNORM;
+      else if (f == "rgba16f")
+        o->format = VK_FORMAT_R16G16B16A16_SFLOAT;
+      else
+        return false;
     } else if (a == "--csv") {
       o->csv = next();
     } else {
@@ -181,11 +193,23 @@ double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];
 }
+// CPU time of the whole process (all threads, lavapipe's workers included): on a shared, loaded
+// machine this is far steadier than wall-clock timestamps for a CPU "GPU".
+double processCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
+double minimum(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end());
+}
 
 struct Row {
   VkExtent2D size;
   std::string method;
   double gpuMs, copyMs, hostUs;
+  double gpuMinMs, copyMinMs;  // minimum over iterations: less sensitive to a shared, loaded CPU
+  double cpuMs, copyCpuMs;     // process CPU ms per frame (lavapipe's work), median
 };
 
 }  // namespace
@@ -208,12 +232,13 @@ int main(int argc, char** argv) {
     const VkImageUsageFlags outUsage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     std::array<std::unique_ptr<Image>, 2> in, out;
     for (int e = 0; e < 2; ++e) {
-      in[e] = std::make_unique<Image>(*ctx, VK_FORMAT_R8G8B8A8_SRGB, size,
+      in[e] = std::make_unique<Image>(*ctx, opt.format, size,
                                       VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, false);
-      out[e] = std::make_unique<Image>(*ctx, VK_FORMAT_R8G8B8A8_SRGB, size, outUsage, true);
+      out[e] =
+          std::make_unique<Image>(*ctx, opt.format, size, outUsage, opt.format == VK_FORMAT_R8G8B8A8_SRGB);
       fillInput(*ctx, in[e]->image());
     }
-    double copyMs = 0.0;
+    double copyMs = 0.0, copyMinMs = 0.0, copyCpuMs = 0.0;
     std::vector<std::string> methods = opt.methods;
     if (std::find(methods.begin(), methods.end(), "none") == methods.end())
       methods.insert(methods.begin(), "none");
@@ -228,7 +253,7 @@ int main(int argc, char** argv) {
         std::cerr << "steadyxr-bench: " << err << "\n";
         return 1;
       }
-      std::vector<double> gpu, host;
+      std::vector<double> gpu, host, cpu;
       VkImageLayout outLayout = VK_IMAGE_LAYOUT_UNDEFINED;
       for (int i = 0; i < opt.warmup + opt.iterations; ++i) {
         StereoFrame f;
@@ -244,6 +269,7 @@ int main(int argc, char** argv) {
           o.views[e].finalLayout = VK_IMAGE_LAYOUT_GENERAL;
         }
         filter->waitIdle();  // host time below is the recording/submission only, no GPU wait
+        const double c0 = processCpuMs();
         const auto t0 = std::chrono::steady_clock::now();
         const bool ok = filter->submit(f, o, &err);
         const auto t1 = std::chrono::steady_clock::now();
@@ -253,7 +279,9 @@ int main(int argc, char** argv) {
         }
         outLayout = VK_IMAGE_LAYOUT_GENERAL;
         filter->waitIdle();
+        const double c1 = processCpuMs();
         if (i < opt.warmup) continue;
+        cpu.push_back(c1 - c0);
         host.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
         if (auto t = filter->lastTimings()) gpu.push_back(t->totalMs);
       }
@@ -262,25 +290,43 @@ int main(int argc, char** argv) {
         filter->forgetImage(out[e]->image());
       }
       const double g = median(gpu);
-      if (m == "none") copyMs = g;
-      rows.push_back({size, m == "none" ? "copy (none)" : m, g, copyMs, median(host)});
+      const double gMin = minimum(gpu);
+      const double c = median(cpu);
+      if (m == "none") {
+        copyMs = g;
+        copyMinMs = gMin;
+        copyCpuMs = c;
+      }
+      rows.push_back(
+          {size, m == "none" ? "copy (none)" : m, g, copyMs, median(host), gMin, copyMinMs, c, copyCpuMs});
       const Row& r = rows.back();
-      std::printf("%5ux%-5u %-14s gpu %8.3f ms  x%5.2f copy  host %7.1f us\n", size.width, size.height,
-                  r.method.c_str(), r.gpuMs, r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0, r.hostUs);
+      std::printf(
+          "%5ux%-5u %-14s gpu %8.3f ms x%5.2f copy | min %8.3f ms x%5.2f | cpu %8.3f ms x%5.2f | host %7.1f "
+          "us\n",
+          size.width, size.height, r.method.c_str(), r.gpuMs, r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0,
+          r.gpuMinMs, r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0, r.cpuMs,
+          r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0, r.hostUs);
       std::fflush(stdout);
     }
   }
-  std::printf("\n| per-eye size | method | GPU ms / stereo frame | x copy | host us / frame |\n");
-  std::printf("|---|---|---|---|---|\n");
+  std::printf(
+      "\n| per-eye size | method | GPU ms/stereo frame (median) | x copy | GPU ms (min) | x copy (min) | CPU "
+      "ms (lavapipe) | x copy (CPU) | host us |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows)
-    std::printf("| %ux%u | %s | %.3f | %.2f | %.1f |\n", r.size.width, r.size.height, r.method.c_str(),
-                r.gpuMs, r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0, r.hostUs);
+    std::printf("| %ux%u | %s | %.3f | %.2f | %.3f | %.2f | %.3f | %.2f | %.1f |\n", r.size.width,
+                r.size.height, r.method.c_str(), r.gpuMs, r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0, r.gpuMinMs,
+                r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0, r.cpuMs,
+                r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0, r.hostUs);
   if (!opt.csv.empty()) {
     std::ofstream csv(opt.csv);
-    csv << "width,height,method,gpu_ms,copy_ms,ratio_to_copy,host_us\n";
+    csv << "width,height,method,gpu_ms,copy_ms,ratio_to_copy,gpu_min_ms,copy_min_ms,ratio_min,cpu_ms,copy_"
+           "cpu_ms,ratio_cpu,host_us\n";
     for (const Row& r : rows)
       csv << r.size.width << "," << r.size.height << "," << r.method << "," << r.gpuMs << "," << r.copyMs
-          << "," << (r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0) << "," << r.hostUs << "\n";
+          << "," << (r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0) << "," << r.gpuMinMs << "," << r.copyMinMs
+          << "," << (r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0) << "," << r.cpuMs << "," << r.copyCpuMs
+          << "," << (r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0) << "," << r.hostUs << "\n";
     if (!csv) {
       std::cerr << "could not write " << opt.csv << "\n";
       return 1;

@@ -183,7 +183,9 @@ struct Filter::Impl {
   Unique<VkSampler> samplerNearest;  // depth (texelFetch only)
   Unique<VkDescriptorSetLayout> setLayout;
   Unique<VkPipelineLayout> pipelineLayout;
-  std::array<std::array<Unique<VkPipeline>, 2>, static_cast<size_t>(Pass::Count)> pipelines;
+  // Keyed by pass, output format and the specialisation constants (see common.glsl).
+  using SpecKey = std::array<int32_t, 7>;
+  std::map<std::tuple<Pass, OutFmt, SpecKey>, Unique<VkPipeline>> pipelines;
   std::array<Slot, kSlots> slots;
   std::array<EyeState, 2> eyes;
   uint32_t historyIndex = 0;  // which history image is written this frame
@@ -199,7 +201,7 @@ struct Filter::Impl {
   bool init(std::string* error);
   bool createImage(OwnedImage& img, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
                    std::string* error);
-  VkPipeline pipeline(Pass pass, OutFmt fmt, std::string* error);
+  VkPipeline pipeline(Pass pass, OutFmt fmt, const SpecKey& spec, std::string* error);
   VkImageView view(VkImage image, VkFormat format, uint32_t layer, VkImageAspectFlags aspect,
                    std::string* error);
   void collect(Slot& s);
@@ -388,8 +390,8 @@ bool Filter::Impl::init(std::string* error) {
          createImage(dummy8, {1, 1}, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_STORAGE_BIT, error);
 }
 
-VkPipeline Filter::Impl::pipeline(Pass pass, OutFmt fmt, std::string* error) {
-  auto& slot = pipelines[static_cast<size_t>(pass)][fmt];
+VkPipeline Filter::Impl::pipeline(Pass pass, OutFmt fmt, const SpecKey& spec, std::string* error) {
+  auto& slot = pipelines[{pass, fmt, spec}];
   if (slot) return slot.get();
   const uint32_t* code = nullptr;
   size_t size = 0;
@@ -430,6 +432,14 @@ VkPipeline Filter::Impl::pipeline(Pass pass, OutFmt fmt, std::string* error) {
   cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
   cpci.stage.module = module;
   cpci.stage.pName = "main";
+  std::array<VkSpecializationMapEntry, std::tuple_size_v<SpecKey>> entries{};
+  for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, i * 4u, 4u};  // int and VkBool32: 4 bytes
+  VkSpecializationInfo si{};
+  si.mapEntryCount = static_cast<uint32_t>(entries.size());
+  si.pMapEntries = entries.data();
+  si.dataSize = sizeof(SpecKey);
+  si.pData = spec.data();
+  cpci.stage.pSpecializationInfo = &si;
   cpci.layout = pipelineLayout.get();
   VkPipeline p = VK_NULL_HANDLE;
   if (vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &cpci, nullptr, &p) != VK_SUCCESS) {
@@ -731,7 +741,15 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   const Binding dummySampled{dummy16.view.get(), VK_IMAGE_LAYOUT_GENERAL};
   auto dispatch = [&](Pass pass, OutFmt fmt, const PassUniforms& u, Binding src0, Binding src1, Binding d0,
                       Binding d1, VkImageView histOut, VkImageView out) -> bool {
-    const VkPipeline p = pipeline(pass, fmt, error);
+    const bool writeOut = u.flags.w != 0;
+    const SpecKey spec{pass == Pass::Temporal ? u.flags.x : 0,
+                       pass == Pass::Temporal ? std::max(u.flags.y, 1) : 1,
+                       writeOut ? 1 : 0,
+                       u.flags2.z != 0 ? 1 : 0,
+                       writeOut && u.flags2.x != 0 ? 1 : 0,
+                       writeOut && u.flags2.y != 0 ? 1 : 0,
+                       u.flags2.w};
+    const VkPipeline p = pipeline(pass, fmt, spec, error);
     if (!p || dispatchIndex >= kMaxDispatches) return false;
     const VkDeviceSize offset = uboStride * dispatchIndex++;
     std::memcpy(static_cast<char*>(s.mapped) + offset, &u, sizeof(u));
