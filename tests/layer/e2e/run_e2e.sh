@@ -55,6 +55,23 @@ cat >"$host/layer/XrApiLayer_steadyxr.json" <<JSON
 }
 JSON
 
+# The implicit manifest, found through XDG_DATA_DIRS, enabled only by STEADYXR_ENABLE.
+mkdir -p "$host/data/openxr/1/api_layers/implicit.d"
+cat >"$host/data/openxr/1/api_layers/implicit.d/XrApiLayer_steadyxr.json" <<JSON
+{
+    "file_format_version": "1.0.0",
+    "api_layer": {
+        "name": "$layer_name",
+        "library_path": "$inroot/layer/$(basename "$layer_so")",
+        "api_version": "1.0",
+        "implementation_version": "1",
+        "description": "steadyxr (end-to-end test copy, implicit)",
+        "enable_environment": "STEADYXR_ENABLE",
+        "disable_environment": "STEADYXR_DISABLE"
+    }
+}
+JSON
+
 pids=()
 cleanup() {
   # Stop only what this script started, by PID.
@@ -97,7 +114,14 @@ run_case() {
   mkdir -p "$hdir/xdg" "$hdir/dump"
   chmod 700 "$hdir/xdg"
   local env=("${base_env[@]}" XDG_RUNTIME_DIR=$dir/xdg)
-  local layer_env=()
+  local layer_env=() layer_path="$inroot/layer:/usr/share/openxr/1/api_layers/explicit.d"
+  local enable="$layer_name:XR_APILAYER_LUNARG_core_validation"
+  if [[ $case_name == implicit* ]]; then
+    layer_path=/usr/share/openxr/1/api_layers/explicit.d
+    enable=XR_APILAYER_LUNARG_core_validation
+    layer_env=(XDG_DATA_DIRS=$inroot/data:/usr/share)
+    [[ $case_name == implicit_off ]] || layer_env+=(STEADYXR_ENABLE=1)
+  fi
   if [[ $case_name == imu ]]; then
     "$imu_emu" --motion pursuit --duration 600 --out "socket:$hdir/imu.sock" >"$hdir/imu-emu.log" 2>&1 &
     pids+=($!)
@@ -131,8 +155,7 @@ run_case() {
   fi
   # hello_xr exits cleanly when its standard input closes: a clean N-second run.
   sleep "$seconds" | timeout --kill-after=10 $((seconds + 90)) chroot "$root" /usr/bin/env -i "${env[@]}" \
-    XR_API_LAYER_PATH="$inroot/layer:/usr/share/openxr/1/api_layers/explicit.d" \
-    XR_ENABLE_API_LAYERS="$layer_name:XR_APILAYER_LUNARG_core_validation" \
+    XR_API_LAYER_PATH="$layer_path" XR_ENABLE_API_LAYERS="$enable" \
     XR_CORE_VALIDATION_EXPORT_TYPE=text XR_CORE_VALIDATION_FILE_NAME="$dir/core_validation.txt" \
     "${layer_env[@]}" STEADYXR_METHOD="$method" STEADYXR_DUMP_FRAMES="$dump" STEADYXR_DUMP_DIR="$dir/dump" STEADYXR_LOG_LEVEL=${STEADYXR_E2E_LOG_LEVEL:-info} \
     hello_xr -g Vulkan2 -vc Stereo >"$hdir/hello_xr.log" 2>&1
@@ -142,6 +165,15 @@ run_case() {
 
   local summary
   summary=$(grep -a "session summary:" "$hdir/hello_xr.log" | tail -n 1)
+  if [[ $case_name == implicit_off ]]; then
+    ((app_rc == 0)) || fail "hello_xr exited $app_rc"
+    if grep -aq "\[steadyxr\]" "$hdir/hello_xr.log"; then
+      fail "the implicit layer loaded without STEADYXR_ENABLE"
+    else
+      echo "[$case_name] implicit layer stays out without STEADYXR_ENABLE (hello_xr exit $app_rc)"
+    fi
+    return
+  fi
   echo "[$case_name] hello_xr exit $app_rc; $summary"
   ((app_rc == 0)) || { fail "hello_xr exited $app_rc"; tail -n 30 "$hdir/hello_xr.log"; }
   [[ -n $summary ]] || { fail "no session summary from the layer (did it load?)"; return; }
@@ -223,6 +255,9 @@ check_equal none
 # pixels) still catches a filter that shifts, blurs or corrupts the image.
 run_case default default null 8 40
 check_changes default 5
+# The implicit manifest: loaded with STEADYXR_ENABLE=1, absent without it.
+run_case implicit none null 0 20
+run_case implicit_off none null 0 0
 if [[ -n $imu_emu ]]; then
   run_case imu default null 0 40
 fi
