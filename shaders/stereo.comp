@@ -4,15 +4,14 @@
 // plane), rejected by a depth check, blended with beta from Eq. 4. Display only.
 #include "common.glsl"
 
-void main() {
-  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+void processPixel(ivec2 p, ivec2 o) {
   ivec2 size = P.src0Rect.zw;
   if (any(greaterThanEqual(p, size))) return;
   vec3 m1 = vec3(0.0), m2 = vec3(0.0);
-  vec3 y = fetchSrc0(p);
+  vec3 y = blockAt(o, 0, 0);
   for (int j = -1; j <= 1; ++j)
     for (int i = -1; i <= 1; ++i) {
-      vec3 c = (i == 0 && j == 0) ? y : fetchSrc0(p + ivec2(i, j));
+      vec3 c = blockAt(o, i, j);
       m1 += c;
       m2 += c * c;
     }
@@ -47,4 +46,14 @@ void main() {
   }
   if (any(isnan(result)) || any(isinf(result))) result = y;
   writeOutput(p, result);
+}
+
+void main() {
+  ivec2 base = ivec2(gl_GlobalInvocationID.xy) * 2;
+  if (any(greaterThanEqual(base, P.src0Rect.zw))) return;
+  loadBlock(base);
+  processPixel(base, ivec2(0, 0));
+  processPixel(base + ivec2(1, 0), ivec2(1, 0));
+  processPixel(base + ivec2(0, 1), ivec2(0, 1));
+  processPixel(base + ivec2(1, 1), ivec2(1, 1));
 }

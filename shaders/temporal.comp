@@ -47,13 +47,12 @@ float varianceAlpha(vec3 x, vec3 mean, vec3 var) {
   return clamp(a, P.w0.z, 1.0);
 }
 
-void main() {
-  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+void processPixel(ivec2 p, ivec2 o) {
   ivec2 size = P.src0Rect.zw;
   if (any(greaterThanEqual(p, size))) return;
   const int mode = kMode;
   vec2 pc = vec2(p) + 0.5;
-  vec3 cur = fetchSrc0(p);
+  vec3 cur = kMode != kHmtaa ? blockAt(o, 0, 0) : fetchSrc0(p);
 
   float invZ = P.w1.w;
   if ((kDepthBits & 1) != 0) invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + p, 0).r, P.depth0);
@@ -65,7 +64,7 @@ void main() {
     if (mode != kHmtaa) {
       for (int y = -1; y <= 1; ++y)
         for (int x = -1; x <= 1; ++x) {
-          vec3 c = (x == 0 && y == 0) ? cur : fetchSrc0(p + ivec2(x, y));
+          vec3 c = blockAt(o, x, y);
           if (mode == kTaa) c = toYCoCg(c);
           m1 += c;
           m2 += c * c;
@@ -110,4 +109,14 @@ void main() {
   if (any(isnan(result)) || any(isinf(result))) result = cur;
   if (kWriteHist) imageStore(uHistOut, p, vec4(result, 1.0));
   if (kWriteOut) writeOutput(p, result);
+}
+
+void main() {
+  ivec2 base = ivec2(gl_GlobalInvocationID.xy) * 2;
+  if (any(greaterThanEqual(base, P.src0Rect.zw))) return;
+  if (kMode != kHmtaa) loadBlock(base);
+  processPixel(base, ivec2(0, 0));
+  processPixel(base + ivec2(1, 0), ivec2(1, 0));
+  processPixel(base + ivec2(0, 1), ivec2(0, 1));
+  processPixel(base + ivec2(1, 1), ivec2(1, 1));
 }

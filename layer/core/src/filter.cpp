@@ -796,8 +796,11 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
     bound = p;
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout.get(), 0, 1, &set, 0,
                             nullptr);
-    vkCmdDispatch(cmd, (static_cast<uint32_t>(u.src0Rect.z) + kGroupX - 1) / kGroupX,
-                  (static_cast<uint32_t>(u.src0Rect.w) + kGroupY - 1) / kGroupY, 1);
+    // temporal and stereo invocations each handle a 2x2 block of pixels
+    const uint32_t gx = (pass == Pass::Temporal || pass == Pass::Stereo) ? 2 * kGroupX : kGroupX;
+    const uint32_t gy = (pass == Pass::Temporal || pass == Pass::Stereo) ? 2 * kGroupY : kGroupY;
+    vkCmdDispatch(cmd, (static_cast<uint32_t>(u.src0Rect.z) + gx - 1) / gx,
+                  (static_cast<uint32_t>(u.src0Rect.w) + gy - 1) / gy, 1);
     return true;
   };
 
