@@ -31,12 +31,13 @@ bool finite(const glm::dvec3& v) {
 }  // namespace
 
 bool Fusion::update(const hid::ImuSample& s) {
-  const glm::dvec3 gyro(s.gyroRadPerSec);
+  const glm::dvec3 rawGyro(s.gyroRadPerSec);
   const glm::dvec3 accel(s.accelMps2);
-  if (!finite(gyro) || (initialized_ && s.deviceTimeNs <= state_.timeNs)) {
+  if (!finite(rawGyro) || (initialized_ && s.deviceTimeNs <= state_.timeNs)) {
     ++rejected_;
     return false;
   }
+  const glm::dvec3 gyro = rawGyro - gyroBias_;
   const double accelNorm = finite(accel) ? glm::length(accel) : 0.0;
   const bool accelUsable = s.accelValid && std::abs(accelNorm - kGravity) < p_.gateAccelErrorMps2;
   if (!initialized_) {
@@ -74,6 +75,13 @@ bool Fusion::update(const hid::ImuSample& s) {
       const glm::dvec3 err = glm::cross(worldAccelLp_ / lpNorm, glm::dvec3(0.0, 1.0, 0.0));
       const glm::dquat correction = expMap(err * std::min(gain * step, 1.0));
       q = correction * q;
+      // Integral term (Mahony): a constant tilt error means a gyro bias; only once the start-up
+      // gain has settled, so the initial tilt does not wind it up. Yaw bias stays unobservable.
+      if (gain <= p_.tiltGainPerSec && p_.biasGainPerSec > 0.0) {
+        gyroBias_ -= (glm::conjugate(q) * err) * (p_.biasGainPerSec * step);
+        const double b = glm::length(gyroBias_);
+        if (b > p_.maxBiasRadPerSec) gyroBias_ *= p_.maxBiasRadPerSec / b;
+      }
       worldAccelLp_ = correction * worldAccelLp_;  // the stored mean turns with the estimate
     }
   }

@@ -25,6 +25,8 @@ struct FusionParams {
   double accelTimeConstantSec = 0.25;  // world-frame low-pass of the accelerometer before use
   double gateGyroRadPerSec = 0.2;   // no tilt correction while turning (>11 deg/s: centripetal acceleration)
   double gateAccelErrorMps2 = 0.6;  // ... nor while |accel| is far from g
+  double biasGainPerSec = 0.05;     // integral gain of the gyro-bias estimate (tilt axes only)
+  double maxBiasRadPerSec = 0.05;
   double speedTimeConstantSec = 0.03;  // one-pole smoothing of the head speed
   double maxStepSec = 0.05;            // longer gaps (dropped reports) are not integrated blindly
 };
@@ -46,6 +48,7 @@ class Fusion {
   const FusedSample& state() const { return state_; }
   bool initialized() const { return initialized_; }
   uint64_t rejectedSamples() const { return rejected_; }
+  glm::dvec3 gyroBias() const { return gyroBias_; }
 
  private:
   FusionParams p_;
@@ -54,6 +57,7 @@ class Fusion {
   int64_t startNs_ = 0;
   uint64_t rejected_ = 0;
   glm::dvec3 worldAccelLp_{0.0};
+  glm::dvec3 gyroBias_{0.0};
   bool haveLp_ = false;
 };
 
