@@ -100,9 +100,11 @@ class Registry {
   std::map<XrSwapchain, std::shared_ptr<Session>> swapchains_;
 };
 
+// Deliberately never destroyed: at process exit the runtime may already be unloaded, and
+// tearing sessions down then would call into it.
 Registry& registry() {
-  static Registry r;
-  return r;
+  static Registry* const r = new Registry;
+  return *r;
 }
 
 // Exceptions must never cross into the app: turn them into a runtime failure.

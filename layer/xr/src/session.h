@@ -11,6 +11,7 @@
 #include "steadyxr/imu/imu_pose_source.h"
 
 #include <array>
+#include <atomic>
 #include <deque>
 #include <map>
 #include <memory>
@@ -137,7 +138,7 @@ class Session {
 
   std::shared_ptr<InstanceState> instance_;
   XrSession handle_;
-  bool filtering_ = false;
+  std::atomic<bool> filtering_ = false;  // read unlocked on the fast pass-through path
   bool vulkanSession_ = false;
   PassReason failedReason_ = PassReason::FilterError;  // why filtering_ is off in a Vulkan session
   bool shutDown_ = false;
