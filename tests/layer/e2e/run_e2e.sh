@@ -122,6 +122,11 @@ run_case() {
     layer_env=(XDG_DATA_DIRS=$inroot/data:/usr/share)
     [[ $case_name == implicit_off ]] || layer_env+=(STEADYXR_ENABLE=1)
   fi
+  local run_seconds=$seconds
+  if [[ $case_name == disabled ]]; then
+    layer_env=(STEADYXR_ENABLED=0)
+  fi
+  if [[ $case_name == disabled || $case_name == implicit_off ]]; then run_seconds=3; fi
   if [[ $case_name == imu ]]; then
     "$imu_emu" --motion pursuit --duration 600 --out "socket:$hdir/imu.sock" >"$hdir/imu-emu.log" 2>&1 &
     pids+=($!)
@@ -154,7 +159,7 @@ run_case() {
     return
   fi
   # hello_xr exits cleanly when its standard input closes: a clean N-second run.
-  sleep "$seconds" | timeout --kill-after=10 $((seconds + 90)) chroot "$root" /usr/bin/env -i "${env[@]}" \
+  sleep "$run_seconds" | timeout --kill-after=10 $((run_seconds + 90)) chroot "$root" /usr/bin/env -i "${env[@]}" \
     XR_API_LAYER_PATH="$layer_path" XR_ENABLE_API_LAYERS="$enable" \
     XR_CORE_VALIDATION_EXPORT_TYPE=text XR_CORE_VALIDATION_FILE_NAME="$dir/core_validation.txt" \
     "${layer_env[@]}" STEADYXR_METHOD="$method" STEADYXR_DUMP_FRAMES="$dump" STEADYXR_DUMP_DIR="$dir/dump" STEADYXR_LOG_LEVEL=${STEADYXR_E2E_LOG_LEVEL:-info} \
@@ -171,6 +176,15 @@ run_case() {
       fail "the implicit layer loaded without STEADYXR_ENABLE"
     else
       echo "[$case_name] implicit layer stays out without STEADYXR_ENABLE (hello_xr exit $app_rc)"
+    fi
+    return
+  fi
+  if [[ $case_name == disabled ]]; then
+    ((app_rc == 0)) || fail "hello_xr exited $app_rc"
+    if grep -aq "\[steadyxr\] info: .*: disabled" "$hdir/hello_xr.log" && [[ -z $summary ]]; then
+      echo "[$case_name] STEADYXR_ENABLED=0: layer loaded, hooked nothing (hello_xr exit $app_rc)"
+    else
+      fail "STEADYXR_ENABLED=0 did not start the layer disabled"
     fi
     return
   fi
@@ -258,6 +272,7 @@ check_changes default 5
 # The implicit manifest: loaded with STEADYXR_ENABLE=1, absent without it.
 run_case implicit none null 0 20
 run_case implicit_off none null 0 0
+run_case disabled none null 0 0
 if [[ -n $imu_emu ]]; then
   run_case imu default null 0 40
 fi
