@@ -43,6 +43,8 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
   --gt-grid N          ground truth with N*N jittered samples per pixel (default 4 = 16 spp)
   --warp-steps N       seed 004 study: extrapolate 1..N display frames (default 6)
   --threshold F        error-pixel threshold per channel in [0,1] (default 0.1)
+  --noise F            add per-frame noise of amplitude F to every scene (the "noisy" scene is
+                       the image viewer with 0.08)
   --no-sweeps          skip the parameter sweeps
   --quick              small run: 1 picture, no sweeps, 20 frames, 128x128 (unless given)
   --validation         enable the Vulkan validation layer
@@ -103,6 +105,8 @@ int main(int argc, char** argv) {
         o.warpSteps = std::stoi(next());
       } else if (a == "--threshold") {
         o.errorThreshold = std::stof(next());
+      } else if (a == "--noise") {
+        o.noise = std::stof(next());
       } else if (a == "--no-sweeps") {
         o.sweeps = false;
       } else if (a == "--quick") {

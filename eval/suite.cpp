@@ -432,6 +432,7 @@ void writeJson(const std::string& path, const Options& o, const std::vector<Resu
   f << "  ],\n  \"targets\": [\n";
   for (size_t i = 0; i < targets.size(); ++i) {
     f << "    {\"target\": " << jsonStr(targets[i].name)
+      << ", \"evaluated\": " << (targets[i].evaluated ? "true" : "false")
       << ", \"met\": " << (targets[i].met ? "true" : "false")
       << ", \"detail\": " << jsonStr(targets[i].detail) << "}" << (i + 1 < targets.size() ? "," : "") << "\n";
   }
@@ -570,6 +571,7 @@ int runSuite(const Options& o) {
       for (int eye = 0; eye < 2; ++eye) {
         DrawList draws = scene.drawsAt(t);
         draws.noiseSeed = uint32_t(f * 2 + eye + 1);
+        if (o.noise > 0.0f) draws.noiseAmplitude = o.noise;
         double ms = 0;
         if (!renderer->renderBase(eye, cams[eye], draws, &base[eye], &ms, &error)) {
           std::cerr << "steadyxr-eval: render: " << error << "\n";
@@ -725,6 +727,7 @@ int runSuite(const Options& o) {
         const auto dc = eyeCameras(headAt(td), o.width, o.height);
         DrawList draws = scene.drawsAt(td);
         draws.noiseSeed = uint32_t(f * 2 + 1);
+        if (o.noise > 0.0f) draws.noiseAmplitude = o.noise;
         RenderedView truth;
         if (!renderer->renderBase(0, dc[0], draws, &truth, nullptr, &error)) {
           std::cerr << "steadyxr-eval: render: " << error << "\n";
@@ -855,7 +858,11 @@ int runSuite(const Options& o) {
   }
   std::cout << "\nTargets (default = " << core::methodName(*core::applyMethodName("default")) << "):\n";
   for (const TargetCheck& t : targets) {
-    std::cout << "  [" << (t.met ? "MET" : "MISSED") << "] " << t.name << ": " << t.detail << "\n";
+    std::cout << "  ["
+              << (!t.evaluated ? "N/A"
+                  : t.met      ? "MET"
+                               : "MISSED")
+              << "] " << t.name << ": " << t.detail << "\n";
   }
   std::cout << "Outputs: " << o.outDir
             << "/results.csv, results.json, timeseries.csv, warp_errors.csv, crops/*.png\n";

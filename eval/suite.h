@@ -25,6 +25,7 @@ struct Options {
   int gtGrid = 4;               // ground truth: gtGrid^2 jittered samples per pixel
   int warpSteps = 6;            // seed 004 study: extrapolate up to this many display frames
   float errorThreshold = 0.1f;  // seed 004 error-pixel threshold (any channel, [0, 1] scale)
+  float noise = 0.0f;  // > 0: per-frame noise of this amplitude on every scene (noisy variant of any scene)
   bool sweeps = true;
   bool progress = true;
   bool validation = false;
