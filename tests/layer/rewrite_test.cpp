@@ -192,6 +192,13 @@ TEST(Swapchains, UsageAndOutputInfo) {
   app.mipCount = 1;
   app.faceCount = 1;
   app.createFlags = XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT;
+  EXPECT_TRUE(isReadableSwapchain(app));
+  XrSwapchainCreateInfo msaa = app;
+  msaa.sampleCount = 4;
+  EXPECT_FALSE(isReadableSwapchain(msaa));
+  XrSwapchainCreateInfo prot = app;
+  prot.createFlags |= XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT;
+  EXPECT_FALSE(isReadableSwapchain(prot));
   const XrSwapchainCreateInfo srgb = outputSwapchainInfo(app, false);
   EXPECT_EQ(srgb.format, app.format);
   EXPECT_EQ(srgb.width, 640u);

@@ -113,6 +113,11 @@ const XrCompositionLayerDepthInfoKHR* findDepthInfo(const XrCompositionLayerProj
   return nullptr;
 }
 
+bool isReadableSwapchain(const XrSwapchainCreateInfo& info) {
+  return info.sampleCount <= 1 && info.faceCount <= 1 &&
+         (info.createFlags & XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT) == 0;
+}
+
 XrSwapchainUsageFlags appSwapchainUsage(XrSwapchainUsageFlags requested) {
   return requested | XR_SWAPCHAIN_USAGE_SAMPLED_BIT;
 }

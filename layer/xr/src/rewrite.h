@@ -81,6 +81,9 @@ std::optional<PassReason> checkProjection(const XrCompositionLayerProjection& la
 // The chained XrCompositionLayerDepthInfoKHR of a projection view, if any.
 const XrCompositionLayerDepthInfoKHR* findDepthInfo(const XrCompositionLayerProjectionView& view);
 
+// Whether the filter could ever read a swapchain created like this (single-sample, not
+// protected, not a cube map); others are left exactly as the app asked and pass through.
+bool isReadableSwapchain(const XrSwapchainCreateInfo& info);
 // The usage the layer asks for on the app's swapchains (so the filter can sample them).
 XrSwapchainUsageFlags appSwapchainUsage(XrSwapchainUsageFlags requested);
 // The layer's output swapchain for an app colour swapchain: same format, size and array size.

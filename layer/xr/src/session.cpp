@@ -208,6 +208,17 @@ std::string Session::xrError(const char* what, XrResult r) const {
 
 XrResult Session::createSwapchain(const XrSwapchainCreateInfo* info, XrSwapchain* swapchain) {
   if (!filtering_ || info == nullptr) return next().createSwapchain(handle_, info, swapchain);
+  if (!isReadableSwapchain(*info)) {
+    const XrResult r = next().createSwapchain(handle_, info, swapchain);
+    if (XR_SUCCEEDED(r)) {
+      std::lock_guard lock(mutex_);
+      AppSwapchain& s = swapchains_[*swapchain];
+      s.info = *info;
+      s.info.next = nullptr;
+      s.info.format = 0;  // makes checkProjection pass its frames through (unsupported format)
+    }
+    return r;
+  }
   XrSwapchainCreateInfo ours = *info;
   ours.usageFlags = appSwapchainUsage(info->usageFlags);
   XrResult r = next().createSwapchain(handle_, &ours, swapchain);
