@@ -17,6 +17,7 @@ layout(constant_id = 3) const bool kWriteHist = false;
 layout(constant_id = 4) const bool kEncodeSrgb = false;
 layout(constant_id = 5) const bool kSwapRB = false;
 layout(constant_id = 6) const int kDepthBits = 0;     // bit0: this eye's depth, bit1: other eye's
+layout(constant_id = 7) const int kCleanSrc = 0;      // bit0: src0, bit1: src1 is our own history (finite)
 
 layout(set = 0, binding = 0) uniform sampler2D uSrc0;    // current colour / this eye
 layout(set = 0, binding = 1) uniform sampler2D uSrc1;    // history / other eye
@@ -51,7 +52,8 @@ vec3 sanitize(vec3 c) {
 
 vec3 fetchSrc0(ivec2 p) {
   p = clamp(p, ivec2(0), P.src0Rect.zw - 1);
-  return sanitize(texelFetch(uSrc0, P.src0Rect.xy + p, 0).rgb);
+  vec3 c = texelFetch(uSrc0, P.src0Rect.xy + p, 0).rgb;
+  return (kCleanSrc & 1) != 0 ? c : sanitize(c);
 }
 
 // Temporal and stereo run 2x2 pixels per invocation: their four 3x3 neighbourhoods share one
@@ -67,7 +69,8 @@ vec3 blockAt(ivec2 o, int x, int y) { return gBlock[(o.y + 1 + y) * 4 + (o.x + 1
 // Bilinear sample of src1 at continuous pixel coords q (pixel centres at +0.5) of its rect.
 vec3 sampleSrc1(vec2 q) {
   q = clamp(q, vec2(0.5), vec2(P.src1Rect.zw) - 0.5);
-  return sanitize(textureLod(uSrc1, (vec2(P.src1Rect.xy) + q) * P.src1InvExtent.xy, 0.0).rgb);
+  vec3 c = textureLod(uSrc1, (vec2(P.src1Rect.xy) + q) * P.src1InvExtent.xy, 0.0).rgb;
+  return (kCleanSrc & 2) != 0 ? c : sanitize(c);
 }
 
 float invZFromDepth(float d, vec4 dp) {

@@ -184,7 +184,7 @@ struct Filter::Impl {
   Unique<VkDescriptorSetLayout> setLayout;
   Unique<VkPipelineLayout> pipelineLayout;
   // Keyed by pass, output format and the specialisation constants (see common.glsl).
-  using SpecKey = std::array<int32_t, 7>;
+  using SpecKey = std::array<int32_t, 8>;
   std::map<std::tuple<Pass, OutFmt, SpecKey>, Unique<VkPipeline>> pipelines;
   std::array<Slot, kSlots> slots;
   std::array<EyeState, 2> eyes;
@@ -509,6 +509,7 @@ struct Target {
 struct Binding {
   VkImageView view = VK_NULL_HANDLE;
   VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL;
+  bool clean = false;  // our own history: finite by construction, the shader skips sanitising it
 };
 
 VkImageLayout sampledLayout(VkImageLayout l, bool depth) {
@@ -748,7 +749,8 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
                        u.flags2.z != 0 ? 1 : 0,
                        writeOut && u.flags2.x != 0 ? 1 : 0,
                        writeOut && u.flags2.y != 0 ? 1 : 0,
-                       u.flags2.w};
+                       u.flags2.w,
+                       (src0.clean ? 1 : 0) | (src1.clean ? 2 : 0)};
     const VkPipeline p = pipeline(pass, fmt, spec, error);
     if (!p || dispatchIndex >= kMaxDispatches) return false;
     const VkDeviceSize offset = uboStride * dispatchIndex++;
@@ -830,7 +832,9 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
     return u;
   };
   const uint32_t cur = historyIndex, prev = historyIndex ^ 1u;
-  auto historyBinding = [&](uint32_t e, uint32_t i) { return Binding{eyes[e].history[i].view.get()}; };
+  auto historyBinding = [&](uint32_t e, uint32_t i) {
+    return Binding{eyes[e].history[i].view.get(), VK_IMAGE_LAYOUT_GENERAL, true};
+  };
   auto historyRect = [&](uint32_t e) { return glm::ivec4(0, 0, eyes[e].size.width, eyes[e].size.height); };
   auto historyInv = [&](uint32_t e) {
     return glm::vec4(1.0f / static_cast<float>(eyes[e].size.width),
