@@ -798,6 +798,12 @@ bool SceneRenderer::renderGroundTruth(const EyeCamera& cam, const DrawList& draw
   if (!m.beginImpl(error)) return false;
   m.beginPass(m.gtPass.get(), m.gtFb.get(), m.gtPipeline.get(), draws.clearColor, true);
   const float weight = 1.0f / float(gridSize * gridSize);
+  // Additive accumulation only hides what is behind when the nearest surface is drawn first:
+  // front to back by the view depth of each quad's centre (the scenes' quads do not intersect).
+  DrawList sorted = draws;
+  std::stable_sort(sorted.quads.begin(), sorted.quads.end(), [&](const DrawQuad& a, const DrawQuad& b) {
+    return (cam.view * a.model[3]).z > (cam.view * b.model[3]).z;
+  });
   for (int sy = 0; sy < gridSize; ++sy) {
     for (int sx = 0; sx < gridSize; ++sx) {
       if (sx + sy > 0) {
@@ -816,7 +822,7 @@ bool SceneRenderer::renderGroundTruth(const EyeCamera& cam, const DrawList& draw
       q.texture = 0;
       q.tint = glm::vec4(draws.clearColor, 1.0f);
       bg.quads.push_back(q);
-      m.recordDraws(cam, draws, jitter, weight, false);
+      m.recordDraws(cam, sorted, jitter, weight, false);
       m.recordDraws(cam, bg, jitter, weight, false);
     }
   }
