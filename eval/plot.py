@@ -65,6 +65,8 @@ def plot_pareto(rows, charts):
                 ax.plot([p[0] for p in front], [p[1] for p in front], "-", color="tab:green", lw=1.2,
                         label="Pareto front")
                 ax.legend(fontsize=8)
+            if pts and min(p[0] for p in pts) > 0:
+                ax.set_xscale("log")
             ax.set_xlabel("cost: filter GPU ms + extra render ms (both eyes, lavapipe)")
             ax.set_ylabel(label)
             ax.grid(alpha=0.3)
@@ -111,7 +113,8 @@ def plot_warp(warp, charts):
     if not warp:
         return
     fig, axes = plt.subplots(1, 2, figsize=(13, 5))
-    for scenario in sorted({r["scenario"] for r in warp}):
+    for si, scenario in enumerate(sorted({r["scenario"] for r in warp})):
+        color = plt.cm.tab10(si % 10)
         for mode, style in (("timewarp", "--"), ("depthwarp", "-")):
             sub = [r for r in warp if r["scenario"] == scenario and r["mode"] == mode]
             steps = sorted({int(r["step"]) for r in sub})
@@ -120,10 +123,10 @@ def plot_warp(warp, charts):
                 vals = [num(r["error_pixels"]) for r in sub if int(r["step"]) == k]
                 xs.append(num(next(r["extrapolation_ms"] for r in sub if int(r["step"]) == k)))
                 ys.append(sum(vals) / len(vals))
-            axes[0].plot(xs, ys, style, marker="o", ms=3, label=f"{scenario} {mode}")
+            axes[0].plot(xs, ys, style, marker="o", ms=3, color=color, label=f"{scenario} {mode}")
     axes[0].set_xlabel("extrapolation time (ms)")
     axes[0].set_ylabel("error pixels (mean over frames, left eye)")
-    axes[0].set_title("seed 004 error pixels vs extrapolation time")
+    axes[0].set_title("seed 004 error pixels vs extrapolation time (dashed: timewarp, solid: depth warp)")
     axes[0].legend(fontsize=6)
     axes[0].grid(alpha=0.3)
     # Against speed: the largest extrapolation step, every frame of every scenario.
