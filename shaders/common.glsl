@@ -56,14 +56,17 @@ vec3 fetchSrc0(ivec2 p) {
   return (kCleanSrc & 1) != 0 ? c : sanitize(c);
 }
 
-// Temporal and stereo run 2x2 pixels per invocation: their four 3x3 neighbourhoods share one
-// 4x4 block of src0 fetches (16 instead of 36); on llvmpipe fetches dominate the cost.
-vec3 gBlock[16];
+// Temporal and stereo run 4x2 pixels per invocation: their eight 3x3 neighbourhoods share one
+// 6x4 block of src0 fetches (24 instead of 72); on llvmpipe fetches dominate the cost.
+// (Per-pixel calls are written out: a loop leaves the block array in memory on llvmpipe.)
+const int kBlockW = 4;
+const int kBlockH = 2;
+vec3 gBlock[(kBlockW + 2) * (kBlockH + 2)];
 void loadBlock(ivec2 base) {
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 4; ++i) gBlock[j * 4 + i] = fetchSrc0(base + ivec2(i - 1, j - 1));
+  for (int j = 0; j < kBlockH + 2; ++j)
+    for (int i = 0; i < kBlockW + 2; ++i) gBlock[j * (kBlockW + 2) + i] = fetchSrc0(base + ivec2(i - 1, j - 1));
 }
-vec3 blockAt(ivec2 o, int x, int y) { return gBlock[(o.y + 1 + y) * 4 + (o.x + 1 + x)]; }
+vec3 blockAt(ivec2 o, int x, int y) { return gBlock[(o.y + 1 + y) * (kBlockW + 2) + (o.x + 1 + x)]; }
 
 // Bilinear sample of src1 at continuous pixel coords q (pixel centres at +0.5) of its rect.
 // Bilinear sample of src1 at continuous pixel coords q (pixel centres at +0.5) of its rect.

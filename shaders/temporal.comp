@@ -113,11 +113,15 @@ void processPixel(ivec2 p, ivec2 o) {
 }
 
 void main() {
-  ivec2 base = ivec2(gl_GlobalInvocationID.xy) * 2;
+  ivec2 base = ivec2(gl_GlobalInvocationID.xy) * ivec2(kBlockW, kBlockH);
   if (any(greaterThanEqual(base, P.src0Rect.zw))) return;
   if (kMode != kHmtaa) loadBlock(base);
   processPixel(base, ivec2(0, 0));
   processPixel(base + ivec2(1, 0), ivec2(1, 0));
+  processPixel(base + ivec2(2, 0), ivec2(2, 0));
+  processPixel(base + ivec2(3, 0), ivec2(3, 0));
   processPixel(base + ivec2(0, 1), ivec2(0, 1));
   processPixel(base + ivec2(1, 1), ivec2(1, 1));
+  processPixel(base + ivec2(2, 1), ivec2(2, 1));
+  processPixel(base + ivec2(3, 1), ivec2(3, 1));
 }

@@ -798,9 +798,10 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
     bound = p;
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout.get(), 0, 1, &set, 0,
                             nullptr);
-    // temporal and stereo invocations each handle a 2x2 block of pixels
-    const uint32_t gx = (pass == Pass::Temporal || pass == Pass::Stereo) ? 2 * kGroupX : kGroupX;
-    const uint32_t gy = (pass == Pass::Temporal || pass == Pass::Stereo) ? 2 * kGroupY : kGroupY;
+    // temporal and stereo invocations each handle a 4x2 block of pixels (kBlockW x kBlockH)
+    const bool blocked = pass == Pass::Temporal || pass == Pass::Stereo;
+    const uint32_t gx = blocked ? 4 * kGroupX : kGroupX;
+    const uint32_t gy = blocked ? 2 * kGroupY : kGroupY;
     vkCmdDispatch(cmd, (static_cast<uint32_t>(u.src0Rect.z) + gx - 1) / gx,
                   (static_cast<uint32_t>(u.src0Rect.w) + gy - 1) / gy, 1);
     return true;
