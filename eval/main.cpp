@@ -34,7 +34,7 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
   --methods LIST       none,fxaa,msaa2,msaa4,taa,hmtaa,vtaa,hybrid, each also <m>+stereo,
                        stereo, default; sweeps as <m>@key=value[@key=value] with keys
                        hmax,wmin,wlb,amin,alpha,gamma,beta,d (default: all + sweeps)
-  --resolution WxH     per eye (default 256x256)
+  --resolution WxH     per eye (default 128x128: the default suite must fit a few minutes on 2 cores)
   --frames N           app frames per scenario (default 40)
   --seed N             head-motion seed (default 1)
   --app-hz F           app frame rate (default 30)
@@ -46,7 +46,7 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
   --noise F            add per-frame noise of amplitude F to every scene (the "noisy" scene is
                        the image viewer with 0.08)
   --no-sweeps          skip the parameter sweeps
-  --quick              small run: 1 picture, no sweeps, 20 frames, 128x128 (unless given)
+  --quick              small run: 1 picture, no sweeps, 16 frames, 96x96 (unless given)
   --validation         enable the Vulkan validation layer
   --no-progress        no progress bar
 )";
@@ -125,8 +125,8 @@ int main(int argc, char** argv) {
     }
   }
   if (o.quick) {
-    if (!resolutionGiven) o.width = o.height = 128;
-    if (!framesGiven) o.frames = 20;
+    if (!resolutionGiven) o.width = o.height = 96;
+    if (!framesGiven) o.frames = 16;
   }
   if (o.width < 16 || o.height < 16 || o.width > 4096 || o.height > 4096 || o.frames < 2 || o.gtGrid < 1 ||
       o.appHz <= 0 || o.displayHz < o.appHz || o.warpSteps < 0) {
