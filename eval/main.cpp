@@ -34,7 +34,7 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
   --methods LIST       none,fxaa,msaa2,msaa4,taa,hmtaa,vtaa,hybrid, each also <m>+stereo,
                        stereo, default; sweeps as <m>@key=value[@key=value] with keys
                        hmax,wmin,wlb,amin,alpha,gamma,beta,d (default: all + sweeps)
-  --resolution WxH     per eye (default 128x128: the default suite must fit a few minutes on 2 cores)
+  --resolution WxH     per eye (default 256x256)
   --frames N           app frames per scenario (default 40)
   --seed N             head-motion seed (default 1)
   --app-hz F           app frame rate (default 30)

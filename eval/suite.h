@@ -14,8 +14,8 @@ struct Options {
   std::vector<std::string> traces;   // trace CSV files (imu::loadTrace)
   std::vector<std::string> images;   // pictures for the image-viewer scenes (paths or skimage names)
   std::vector<std::string> methods;  // empty: all (see --help)
-  int width = 128;
-  int height = 128;
+  int width = 256;
+  int height = 256;
   int frames = 40;
   uint64_t seed = 1;
   std::string outDir = "out";
