@@ -13,6 +13,7 @@
 #include <glm/vec4.hpp>
 
 #include "steadyxr/core/view_math.h"
+#include "steadyxr/core/vk_handle.h"
 #include "steadyxr/shaders/copy_rgba16f_spv.h"
 #include "steadyxr/shaders/copy_rgba8_spv.h"
 #include "steadyxr/shaders/fxaa_rgba16f_spv.h"
@@ -21,11 +22,8 @@
 #include "steadyxr/shaders/stereo_rgba8_spv.h"
 #include "steadyxr/shaders/temporal_rgba16f_spv.h"
 #include "steadyxr/shaders/temporal_rgba8_spv.h"
-#include "vk_util.h"
 
 namespace steadyxr::core {
-
-using detail::Unique;
 
 namespace {
 
@@ -228,7 +226,7 @@ bool Filter::Impl::createImage(OwnedImage& img, VkExtent2D extent, VkFormat form
     fail(error, "vkCreateImage failed");
     return false;
   }
-  img.image = Unique<VkImage>(device, image, vkDestroyImage);
+  img.image = Unique<VkImage>(device, image);
   VkMemoryRequirements req;
   vkGetImageMemoryRequirements(device, image, &req);
   VkMemoryAllocateInfo mai{};
@@ -241,7 +239,7 @@ bool Filter::Impl::createImage(OwnedImage& img, VkExtent2D extent, VkFormat form
     fail(error, "out of device memory for an internal image");
     return false;
   }
-  img.memory = Unique<VkDeviceMemory>(device, mem, vkFreeMemory);
+  img.memory = Unique<VkDeviceMemory>(device, mem);
   vkBindImageMemory(device, image, mem, 0);
   VkImageViewCreateInfo vci{};
   vci.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO;
@@ -254,7 +252,7 @@ bool Filter::Impl::createImage(OwnedImage& img, VkExtent2D extent, VkFormat form
     fail(error, "vkCreateImageView failed");
     return false;
   }
-  img.view = Unique<VkImageView>(device, v, vkDestroyImageView);
+  img.view = Unique<VkImageView>(device, v);
   img.extent = extent;
   img.format = format;
   return true;
@@ -282,11 +280,11 @@ bool Filter::Impl::init(std::string* error) {
   VkSampler smp = VK_NULL_HANDLE;
   if (vkCreateSampler(device, &sci, nullptr, &smp) != VK_SUCCESS)
     return fail(error, "vkCreateSampler failed"), false;
-  sampler = Unique<VkSampler>(device, smp, vkDestroySampler);
+  sampler = Unique<VkSampler>(device, smp);
   sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
   if (vkCreateSampler(device, &sci, nullptr, &smp) != VK_SUCCESS)
     return fail(error, "vkCreateSampler failed"), false;
-  samplerNearest = Unique<VkSampler>(device, smp, vkDestroySampler);
+  samplerNearest = Unique<VkSampler>(device, smp);
 
   std::array<VkDescriptorSetLayoutBinding, 7> b{};
   for (uint32_t i = 0; i < b.size(); ++i) {
@@ -304,7 +302,7 @@ bool Filter::Impl::init(std::string* error) {
   VkDescriptorSetLayout dsl = VK_NULL_HANDLE;
   if (vkCreateDescriptorSetLayout(device, &dlci, nullptr, &dsl) != VK_SUCCESS)
     return fail(error, "vkCreateDescriptorSetLayout failed"), false;
-  setLayout = Unique<VkDescriptorSetLayout>(device, dsl, vkDestroyDescriptorSetLayout);
+  setLayout = Unique<VkDescriptorSetLayout>(device, dsl);
   VkPipelineLayoutCreateInfo plci{};
   plci.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
   plci.setLayoutCount = 1;
@@ -312,7 +310,7 @@ bool Filter::Impl::init(std::string* error) {
   VkPipelineLayout pl = VK_NULL_HANDLE;
   if (vkCreatePipelineLayout(device, &plci, nullptr, &pl) != VK_SUCCESS)
     return fail(error, "vkCreatePipelineLayout failed"), false;
-  pipelineLayout = Unique<VkPipelineLayout>(device, pl, vkDestroyPipelineLayout);
+  pipelineLayout = Unique<VkPipelineLayout>(device, pl);
 
   for (auto& s : slots) {
     VkCommandPoolCreateInfo cpci{};
@@ -322,7 +320,7 @@ bool Filter::Impl::init(std::string* error) {
     VkCommandPool pool = VK_NULL_HANDLE;
     if (vkCreateCommandPool(device, &cpci, nullptr, &pool) != VK_SUCCESS)
       return fail(error, "vkCreateCommandPool failed"), false;
-    s.pool = Unique<VkCommandPool>(device, pool, vkDestroyCommandPool);
+    s.pool = Unique<VkCommandPool>(device, pool);
     VkCommandBufferAllocateInfo cbai{};
     cbai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
     cbai.commandPool = pool;
@@ -335,7 +333,7 @@ bool Filter::Impl::init(std::string* error) {
     VkFence fence = VK_NULL_HANDLE;
     if (vkCreateFence(device, &fci, nullptr, &fence) != VK_SUCCESS)
       return fail(error, "vkCreateFence failed"), false;
-    s.fence = Unique<VkFence>(device, fence, vkDestroyFence);
+    s.fence = Unique<VkFence>(device, fence);
     std::array<VkDescriptorPoolSize, 3> sizes{{
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4 * kMaxDispatches},
         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * kMaxDispatches},
@@ -349,7 +347,7 @@ bool Filter::Impl::init(std::string* error) {
     VkDescriptorPool dp = VK_NULL_HANDLE;
     if (vkCreateDescriptorPool(device, &dpci, nullptr, &dp) != VK_SUCCESS)
       return fail(error, "vkCreateDescriptorPool failed"), false;
-    s.descriptorPool = Unique<VkDescriptorPool>(device, dp, vkDestroyDescriptorPool);
+    s.descriptorPool = Unique<VkDescriptorPool>(device, dp);
 
     VkBufferCreateInfo bci{};
 
@@ -359,7 +357,7 @@ bool Filter::Impl::init(std::string* error) {
     VkBuffer buf = VK_NULL_HANDLE;
     if (vkCreateBuffer(device, &bci, nullptr, &buf) != VK_SUCCESS)
       return fail(error, "vkCreateBuffer failed"), false;
-    s.ubo = Unique<VkBuffer>(device, buf, vkDestroyBuffer);
+    s.ubo = Unique<VkBuffer>(device, buf);
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(device, buf, &req);
     VkMemoryAllocateInfo mai{};
@@ -370,7 +368,7 @@ bool Filter::Impl::init(std::string* error) {
     VkDeviceMemory mem = VK_NULL_HANDLE;
     if (mai.memoryTypeIndex == UINT32_MAX || vkAllocateMemory(device, &mai, nullptr, &mem) != VK_SUCCESS)
       return fail(error, "no host-visible memory for uniforms"), false;
-    s.uboMemory = Unique<VkDeviceMemory>(device, mem, vkFreeMemory);
+    s.uboMemory = Unique<VkDeviceMemory>(device, mem);
     vkBindBufferMemory(device, buf, mem, 0);
     if (vkMapMemory(device, mem, 0, VK_WHOLE_SIZE, 0, &s.mapped) != VK_SUCCESS)
       return fail(error, "vkMapMemory failed"), false;  // freed memory is implicitly unmapped
@@ -382,7 +380,7 @@ bool Filter::Impl::init(std::string* error) {
       VkQueryPool qp = VK_NULL_HANDLE;
       if (vkCreateQueryPool(device, &qpci, nullptr, &qp) != VK_SUCCESS)
         return fail(error, "vkCreateQueryPool failed"), false;
-      s.queries = Unique<VkQueryPool>(device, qp, vkDestroyQueryPool);
+      s.queries = Unique<VkQueryPool>(device, qp);
     }
   }
   const VkImageUsageFlags dummyUsage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
@@ -446,7 +444,7 @@ VkPipeline Filter::Impl::pipeline(Pass pass, OutFmt fmt, const SpecKey& spec, st
     fail(error, "vkCreateComputePipelines failed");
     return VK_NULL_HANDLE;
   }
-  slot = Unique<VkPipeline>(device, p, vkDestroyPipeline);
+  slot = Unique<VkPipeline>(device, p);
   return p;
 }
 
@@ -465,7 +463,7 @@ VkImageView Filter::Impl::view(VkImage image, VkFormat format, uint32_t layer, V
     fail(error, "vkCreateImageView failed for an application image");
     return VK_NULL_HANDLE;
   }
-  views.emplace(key, Unique<VkImageView>(device, v, vkDestroyImageView));
+  views.emplace(key, Unique<VkImageView>(device, v));
   return v;
 }
 

@@ -1,7 +1,7 @@
 #include "dump.h"
 
 #include "rewrite.h"
-#include "vk_util.h"
+#include "steadyxr/core/vk_handle.h"
 
 #include <cstdio>
 #include <cstring>
@@ -59,7 +59,7 @@ bool ImageDumper::writeImage(core::VulkanContext& vk, const core::ImageRef& ref,
   bci.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   VkBuffer rawBuffer = VK_NULL_HANDLE;
   if (vkCreateBuffer(dev, &bci, nullptr, &rawBuffer) != VK_SUCCESS) return false;
-  const Buffer buffer(dev, rawBuffer);
+  const core::Unique<VkBuffer> buffer(dev, rawBuffer);
   VkMemoryRequirements req{};
   vkGetBufferMemoryRequirements(dev, buffer.get(), &req);
   const uint32_t type = vk.findMemoryType(
@@ -70,7 +70,7 @@ bool ImageDumper::writeImage(core::VulkanContext& vk, const core::ImageRef& ref,
   mai.memoryTypeIndex = type;
   VkDeviceMemory rawMemory = VK_NULL_HANDLE;
   if (vkAllocateMemory(dev, &mai, nullptr, &rawMemory) != VK_SUCCESS) return false;
-  const Memory memory(dev, rawMemory);
+  const core::Unique<VkDeviceMemory> memory(dev, rawMemory);
   if (vkBindBufferMemory(dev, buffer.get(), memory.get(), 0) != VK_SUCCESS) return false;
 
   auto pci = makeVk<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
@@ -78,7 +78,7 @@ bool ImageDumper::writeImage(core::VulkanContext& vk, const core::ImageRef& ref,
   pci.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
   VkCommandPool rawPool = VK_NULL_HANDLE;
   if (vkCreateCommandPool(dev, &pci, nullptr, &rawPool) != VK_SUCCESS) return false;
-  const CommandPool pool(dev, rawPool);
+  const core::Unique<VkCommandPool> pool(dev, rawPool);
   auto cai = makeVk<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
   cai.commandPool = pool.get();
   cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
@@ -88,7 +88,7 @@ bool ImageDumper::writeImage(core::VulkanContext& vk, const core::ImageRef& ref,
   auto fci = makeVk<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
   VkFence rawFence = VK_NULL_HANDLE;
   if (vkCreateFence(dev, &fci, nullptr, &rawFence) != VK_SUCCESS) return false;
-  const Fence fence(dev, rawFence);
+  const core::Unique<VkFence> fence(dev, rawFence);
 
   const VkImageLayout layout = ref.finalLayout.value_or(ref.layout);
   const VkImageSubresourceRange range{colorAspect(), 0, 1, ref.arrayLayer, 1};
