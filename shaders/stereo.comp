@@ -1,7 +1,10 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Stereo blending (seed 002 §4.1/§5.2): the other eye reprojected into this one (depth or a far
-// plane), rejected by a depth check, blended with beta from Eq. 4. Display only.
+// plane), rejected by a depth check, clipped to this eye's 3x3 colour box mean +- gamma*sigma
+// widened to hold this eye's pixel (gamma = taaClipGamma: a moving object or a depth-check miss
+// cannot pull in a foreign colour), blended with beta from Eq. 4, beta >= stereoBetaMin.
+// Display only.
 #include "common.glsl"
 
 void processPixel(ivec2 p, ivec2 o) {
@@ -36,6 +39,11 @@ void processPixel(ivec2 p, ivec2 o) {
     }
     if (ok) {
       vec3 x = sampleSrc1(q);
+      vec3 dx = x - mn;
+      // The box always holds this eye's own pixel: identical eyes stay unchanged.
+      vec3 t = abs(dx) / (max(P.w0.y * sqrt(var), abs(y - mn)) + 1e-6);
+      float mx = max(t.x, max(t.y, t.z));
+      if (mx > 1.0) x = mn + dx / mx;
       float s2 = (var.r + var.g + var.b) / 3.0;
       vec3 d = x - mn;
       float e = dot(d, d) / 3.0 + s2;

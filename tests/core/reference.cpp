@@ -132,9 +132,30 @@ HostImage temporalRef(core::TemporalMethod m, const core::Params& p, const HostI
             const float a = core::globalWeightA(headSpeed, p.hMaxDegPerSec, wmin);
             result = a >= 1.0f ? c : glm::mix(past, c, a);
           } else {
+            // Hybrid: history clipped to the YCoCg box mean +- gamma*sigma of the current 3x3,
+            // then alpha = max(Eq. 4 of seed 002 for the clipped history, A(h) of seed 003 with
+            // w_min = alphaMin), blended with the current frame through the separable
+            // [1/16, 7/8, 1/16] footprint filter (the current pixel as is when alpha = 1).
+            vec3 s1(0), s2(0);
+            for (const vec3& v : nb) {
+              s1 += yCoCg(v);
+              s2 += yCoCg(v) * yCoCg(v);
+            }
+            const vec3 mean = s1 / 9.0f;
+            const vec3 sigma = glm::sqrt(glm::max(s2 / 9.0f - mean * mean, vec3(0)));
+            const vec3 ext = p.taaClipGamma * sigma + 1e-6f;
+            vec3 h = yCoCg(past);
+            const vec3 t = glm::abs(h - mean) / ext;
+            const float mx = std::max({t.x, t.y, t.z});
+            if (mx > 1.0f) h = mean + (h - mean) / mx;
+            const vec3 clipped = glm::max(rgb(h), vec3(0));
             const float ah = core::globalWeightA(headSpeed, p.hMaxDegPerSec, p.vtaaAlphaMin);
-            const float a = std::max(eq4Alpha(past, nb, p.vtaaAlphaMin), ah);
-            result = a >= 1.0f ? c : glm::mix(past, c, a);
+            const float a = std::max(eq4Alpha(clipped, nb, p.vtaaAlphaMin), ah);
+            const float k[3] = {1.0f / 16.0f, 7.0f / 8.0f, 1.0f / 16.0f};
+            vec3 filtered(0);
+            for (int j = 0; j < 3; ++j)
+              for (int i = 0; i < 3; ++i) filtered += k[i] * k[j] * nb[j * 3 + i];
+            result = a >= 1.0f ? c : glm::mix(clipped, filtered, a);
           }
         }
       }
@@ -230,7 +251,19 @@ HostImage stereoRef(const core::Params& p, const HostImage& self, const HostImag
           ok = std::abs(seen - distOther) <= p.stereoDepthTolerance * distOther;
         }
         if (ok) {
-          const vec3 xo = bilinear(other, q);
+          vec3 xo = bilinear(other, q);
+          // Clip to this eye's RGB box mean +- gamma*sigma (gamma = taaClipGamma), widened to hold
+          // this eye's pixel c, towards the mean.
+          vec3 s1(0), s2(0);
+          for (const vec3& v : nb) {
+            s1 += v;
+            s2 += v * v;
+          }
+          const vec3 mean = s1 / 9.0f;
+          const vec3 sigma = glm::sqrt(glm::max(s2 / 9.0f - mean * mean, vec3(0)));
+          const vec3 t = glm::abs(xo - mean) / (glm::max(p.taaClipGamma * sigma, glm::abs(c - mean)) + 1e-6f);
+          const float mx = std::max({t.x, t.y, t.z});
+          if (mx > 1.0f) xo = mean + (xo - mean) / mx;
           result = glm::mix(xo, c, eq4Alpha(xo, nb, p.stereoBetaMin));
         }
       }

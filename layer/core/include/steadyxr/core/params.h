@@ -28,7 +28,8 @@ struct Params {
 
   // taa
   float taaAlpha = 0.1f;     // weight of the current frame
-  float taaClipGamma = 1.0f; // clip box = mean +- gamma * sigma (YCoCg)
+  float taaClipGamma = 1.0f; // clip box = mean +- gamma * sigma (YCoCg); also hybrid's history
+                             // clip and stereo's clip of the other eye (RGB box)
 
   // hmtaa (seed 003 §5.2.2 defaults)
   float hMaxDegPerSec = 25.0f;
@@ -44,7 +45,9 @@ struct Params {
   // stereo (seed 002 §4.1, §5.2)
   float stereoFarDistanceM = 10.0f;  // assumed scene distance when no depth is given
   float stereoDepthTolerance = 0.05f; // relative depth difference that rejects the other eye
-  float stereoBetaMin = 0.0f;         // lower clamp of beta (the weight of this eye)
+  // Lower clamp of beta (the weight of this eye). The other eye is a sample as noisy as this
+  // one, so it should never outweigh it (beta >= 0.5); 0.7 measured best (eval, 256x256).
+  float stereoBetaMin = 0.7f;
 
   // history reset
   float resetAngleDeg = 30.0f;        // a pose jump larger than this between frames resets history
