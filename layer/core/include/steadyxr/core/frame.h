@@ -11,6 +11,7 @@
 #include <optional>
 
 #include <glm/gtc/quaternion.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 namespace steadyxr::core {
@@ -57,6 +58,11 @@ struct ViewFrame {
   std::optional<DepthRef> depth;
   Pose pose;
   Fov fov;
+  // Sub-pixel jitter the colour (and depth) was rendered with: its grid is shifted by this many
+  // pixels (x right, y down) from the grid `fov` defines, so the point at output pixel centre c
+  // appears in the input at c - jitterPx. Output and history lie on `fov`'s (unjittered) grid.
+  // Only the temporal methods un-jitter; others ignore it. Zero for apps that do not jitter.
+  glm::vec2 jitterPx{0.0f};
 };
 
 struct StereoFrame {
