@@ -1,5 +1,6 @@
 #include "rewrite.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace steadyxr::layer {
@@ -173,6 +174,66 @@ XrFovf jitterFov(const XrFovf& fov, float dxPx, float dyPx, uint32_t width, uint
   const float dx = dxPx * (tr - tl) / static_cast<float>(width);
   const float dy = dyPx * (tu - td) / static_cast<float>(height);
   return {std::atan(tl + dx), std::atan(tr + dx), std::atan(tu - dy), std::atan(td - dy)};
+}
+
+bool undoesJitter(core::TemporalMethod method) {
+  switch (method) {
+    case core::TemporalMethod::Taa:
+    case core::TemporalMethod::Hmtaa:
+    case core::TemporalMethod::Vtaa:
+    case core::TemporalMethod::Hybrid:
+      return true;
+    case core::TemporalMethod::None:
+    case core::TemporalMethod::Fxaa:
+      break;
+  }
+  return false;
+}
+
+uint32_t JitterTracker::apply(XrFovf* fovs, const VkExtent2D* sizes, uint32_t count) {
+  if (fovs == nullptr || sizes == nullptr || count == 0 || count > kMaxViews) return 0;
+  halton_ = halton_ % 8 + 1;
+  Call& call = ring_[next_];
+  call = {};
+  call.dxPx = halton(halton_, 2) - 0.5f;
+  call.dyPx = halton(halton_, 3) - 0.5f;
+  uint32_t jittered = 0;
+  for (uint32_t i = 0; i < count; ++i) {
+    if (sizes[i].width == 0 || sizes[i].height == 0 || !isValidFov(fovs[i])) continue;
+    const XrFovf j = jitterFov(fovs[i], call.dxPx, call.dyPx, sizes[i].width, sizes[i].height);
+    if (!isValidFov(j)) continue;  // a fov at the edge of the valid range: leave it as is
+    call.views[i] = {fovs[i], j, sizes[i], true};
+    fovs[i] = j;
+    ++jittered;
+  }
+  next_ = (next_ + 1) % kCalls;
+  count_ = std::min(count_ + 1, kCalls);
+  return jittered;
+}
+
+ViewUnjitter JitterTracker::find(uint32_t view, const XrFovf& submitted, VkExtent2D size) const {
+  ViewUnjitter out;
+  out.fov = submitted;
+  if (view >= kMaxViews) return out;
+  const auto near = [](float a, float b) { return std::fabs(a - b) <= kMatchRad; };
+  for (uint32_t k = 1; k <= count_; ++k) {  // newest first
+    const Call& call = ring_[(next_ + kCalls - k) % kCalls];
+    const View& v = call.views[view];
+    if (!v.valid || !near(v.jittered.angleLeft, submitted.angleLeft) ||
+        !near(v.jittered.angleRight, submitted.angleRight) || !near(v.jittered.angleUp, submitted.angleUp) ||
+        !near(v.jittered.angleDown, submitted.angleDown)) {
+      continue;
+    }
+    out.fov = v.original;
+    // The shift is fixed in tangent space; in pixels it scales with the submitted image size.
+    const float sx = size.width ? static_cast<float>(size.width) / static_cast<float>(v.size.width) : 1.0f;
+    const float sy = size.height ? static_cast<float>(size.height) / static_cast<float>(v.size.height) : 1.0f;
+    out.jitterPx[0] = call.dxPx * sx;
+    out.jitterPx[1] = call.dyPx * sy;
+    out.matched = true;
+    return out;
+  }
+  return out;
 }
 
 FrameRewrite::FrameRewrite(const XrFrameEndInfo& app) : info_(app) {

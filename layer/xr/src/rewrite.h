@@ -13,6 +13,8 @@
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
 
+#include "steadyxr/core/params.h"
+
 #include <array>
 #include <cstdint>
 #include <deque>
@@ -96,6 +98,51 @@ float halton(uint32_t index, uint32_t base);
 // The fov whose image grid is shifted by (dxPx, dyPx) pixels of a width x height image
 // (x right, y down): the sub-pixel jitter the layer can inject through xrLocateViews.
 XrFovf jitterFov(const XrFovf& fov, float dxPx, float dyPx, uint32_t width, uint32_t height);
+
+// Whether the filter core un-jitters with this temporal method (only the history-blending
+// ones do); with the others the layer's jitter would only shake the image, so it injects none.
+bool undoesJitter(core::TemporalMethod method);
+
+// The jitter of one submitted projection view as the filter core needs it.
+struct ViewUnjitter {
+  XrFovf fov{};          // the fov to filter on and submit (the unjittered one when matched)
+  float jitterPx[2]{};   // core::ViewFrame::jitterPx: the image's grid offset, x right, y down
+  bool matched = false;  // the submitted fov is one the layer jittered
+};
+
+// What the layer's jitter did on its last xrLocateViews calls, so that xrEndFrame can
+// recognise a jittered fov the app submits and undo it. The caller serialises access.
+class JitterTracker {
+ public:
+  static constexpr uint32_t kCalls = 8;  // calls remembered (apps submit the newest or the one before)
+  static constexpr uint32_t kMaxViews = 2;
+  static constexpr float kMatchRad = 1e-6f;  // per angle; apps copy the fov, so it matches exactly
+
+  // Jitters the fovs of one xrLocateViews call in place with the next Halton(2,3) offset in
+  // [-0.5, 0.5) pixels (period 8); sizes[i] is view i's image size. Views with an invalid fov
+  // or a zero size are left alone. Returns how many views were jittered.
+  uint32_t apply(XrFovf* fovs, const VkExtent2D* sizes, uint32_t count);
+  // The submitted view `view` of `size` pixels: the newest recorded jitter whose jittered fov
+  // matches `submitted` (jitterPx scaled to `size`), else `submitted` with no jitter.
+  ViewUnjitter find(uint32_t view, const XrFovf& submitted, VkExtent2D size) const;
+  uint32_t recordedCalls() const { return count_; }
+
+ private:
+  struct View {
+    XrFovf original;
+    XrFovf jittered;
+    VkExtent2D size;
+    bool valid;
+  };
+  struct Call {
+    std::array<View, kMaxViews> views;
+    float dxPx, dyPx;
+  };
+  std::array<Call, kCalls> ring_{};
+  uint32_t next_ = 0;   // ring slot of the next call
+  uint32_t count_ = 0;  // recorded calls, up to kCalls
+  uint32_t halton_ = 0;
+};
 
 // Owns the copies handed to the next xrEndFrame. The app's structs are never modified; the
 // copies keep the app's `next` chains (depth info still names the app's depth swapchain).

@@ -105,6 +105,10 @@ std::string SessionStats::summary() const {
   os << buf;
   if (imuFrames + imuFallbackFrames > 0)
     os << " imu_frames=" << imuFrames << " imu_fallback=" << imuFallbackFrames;
+  if (jitter) {
+    os << " jitter_views: applied=" << jitterApplied << " undone=" << jitterUndone
+       << " unmatched=" << jitterUnmatched;
+  }
   return os.str();
 }
 
@@ -182,6 +186,17 @@ bool Session::initFilter() {
   }
   log.log(LogLevel::Info, "filtering with method '" + core::methodName(sanitized) + "' on " +
                               std::string(vk_->properties().deviceName));
+  if (cfg.jitter) {
+    jitter_ = undoesJitter(sanitized.temporal);
+    stats_.jitter = jitter_;
+    if (!jitter_) {
+      // Nothing would un-jitter the image: the jitter would only shake it.
+      log.log(LogLevel::Warn, "jitter = 1 ignored: method '" + core::methodName(sanitized) +
+                                  "' has no temporal pass to undo it");
+    } else {
+      log.log(LogLevel::Info, "jitter: injecting a Halton(2,3) sub-pixel jitter into xrLocateViews' fov");
+    }
+  }
   return true;
 }
 
@@ -387,7 +402,9 @@ float Session::headSpeed(const XrCompositionLayerProjection& layer, int64_t disp
 }
 
 std::optional<PassReason> Session::filterProjection(const XrCompositionLayerProjection& layer,
-                                                    int64_t displayTime, std::vector<XrSwapchain>* outputs) {
+                                                    int64_t displayTime,
+                                                    const std::vector<ViewUnjitter>& unjitter,
+                                                    std::vector<XrSwapchain>* outputs) {
   Logger& log = *instance_->log;
   const auto lookup = [this](XrSwapchain s) -> std::optional<SwapchainFacts> {
     auto it = swapchains_.find(s);
@@ -450,7 +467,12 @@ std::optional<PassReason> Session::filterProjection(const XrCompositionLayerProj
     vf.color.mutableFormat = (ai.usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) != 0;
     vf.color.layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;  // the Vulkan binding's layout at release
     vf.pose = toPose(view.pose);
-    vf.fov = toFov(view.fov);
+    if (v < unjitter.size() && unjitter[v].matched) {
+      vf.fov = toFov(unjitter[v].fov);
+      vf.jitterPx = {unjitter[v].jitterPx[0], unjitter[v].jitterPx[1]};
+    } else {
+      vf.fov = toFov(view.fov);
+    }
     if (const XrCompositionLayerDepthInfoKHR* d = findDepthInfo(view)) {
       auto ds = swapchains_.find(d->subImage.swapchain);
       if (ds != swapchains_.end() && ds->second.facts().hasReleasedImage &&
@@ -535,20 +557,20 @@ std::optional<PassReason> Session::filterProjection(const XrCompositionLayerProj
 XrResult Session::locateViews(const XrViewLocateInfo* info, XrViewState* state, uint32_t capacity,
                               uint32_t* count, XrView* views) {
   const XrResult r = next().locateViews(handle_, info, state, capacity, count, views);
-  if (XR_FAILED(r) || !instance_->config.jitter || !filtering_ || info == nullptr || views == nullptr ||
-      count == nullptr || *count == 0 || *count > 2 || capacity < *count) {
+  if (XR_FAILED(r) || !jitter_ || !filtering_ || info == nullptr || views == nullptr || count == nullptr ||
+      *count == 0 || *count > JitterTracker::kMaxViews || capacity < *count) {
     return r;
   }
   std::lock_guard lock(mutex_);
-  if (viewSize_[0].width == 0) return r;  // sizes known after the first filtered frame
-  // Halton(2,3) in [-0.5, 0.5) pixels, the usual TAA jitter pattern (period 8).
-  jitterIndex_ = jitterIndex_ % 8 + 1;
-  const float dx = halton(jitterIndex_, 2) - 0.5f;
-  const float dy = halton(jitterIndex_, 3) - 0.5f;
+  if (viewSize_[0].width == 0 || shutDown_) return r;  // sizes known after the first filtered frame
+  std::array<XrFovf, JitterTracker::kMaxViews> fovs{};
+  std::array<VkExtent2D, JitterTracker::kMaxViews> sizes{};
   for (uint32_t i = 0; i < *count; ++i) {
-    const VkExtent2D size = viewSize_[i].width ? viewSize_[i] : viewSize_[0];
-    views[i].fov = jitterFov(views[i].fov, dx, dy, size.width, size.height);
+    fovs[i] = views[i].fov;
+    sizes[i] = viewSize_[i].width ? viewSize_[i] : viewSize_[0];
   }
+  stats_.jitterApplied += jitterTracker_.apply(fovs.data(), sizes.data(), *count);
+  for (uint32_t i = 0; i < *count; ++i) views[i].fov = fovs[i];
   return r;
 }
 
@@ -571,12 +593,35 @@ XrResult Session::endFrame(const XrFrameEndInfo* info) {
     if (sawProjection) continue;  // one filter history: only the first projection layer is filtered
     sawProjection = true;
     const auto& proj = *reinterpret_cast<const XrCompositionLayerProjection*>(l);
+    // Views rendered with the layer's jitter are filtered onto, and submitted with, the
+    // unjittered fov; any other fov (the app's own) is used as is with no jitter.
+    std::vector<ViewUnjitter> unjitter;
+    uint32_t matched = 0;
+    if (jitter_ && proj.views != nullptr && proj.viewCount <= JitterTracker::kMaxViews) {
+      for (uint32_t v = 0; v < proj.viewCount; ++v) {
+        const XrRect2Di& rect = proj.views[v].subImage.imageRect;
+        const VkExtent2D size{static_cast<uint32_t>(std::max(rect.extent.width, 0)),
+                              static_cast<uint32_t>(std::max(rect.extent.height, 0))};
+        unjitter.push_back(jitterTracker_.find(v, proj.views[v].fov, size));
+        matched += unjitter.back().matched ? 1 : 0;
+      }
+    }
     std::vector<XrSwapchain> outputs;
-    reason = filterProjection(proj, info->displayTime, &outputs);
+    reason = filterProjection(proj, info->displayTime, unjitter, &outputs);
     if (!reason) {
-      // With jitter on, the submitted fov stays the jittered one the app rendered with: the
-      // filter's output lies on that grid, and the compositor must place it there.
-      rewrite.replaceProjection(i, outputs);
+      std::vector<XrFovf> fovs;
+      for (const ViewUnjitter& u : unjitter) fovs.push_back(u.fov);
+      rewrite.replaceProjection(i, outputs, matched > 0 ? &fovs : nullptr);
+      stats_.jitterUndone += matched;
+      for (uint32_t v = 0; v < unjitter.size(); ++v) {
+        if (!unjitter[v].matched) continue;
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "jitter: undone on submit (first: view %u, %.4f, %.4f px)", v,
+                      unjitter[v].jitterPx[0], unjitter[v].jitterPx[1]);
+        instance_->log->once(LogLevel::Info, "jitter-undone", buf);
+        break;
+      }
+      stats_.jitterUnmatched += unjitter.size() - matched;
       for (uint32_t v = 0; v < proj.viewCount && v < 2; ++v) {
         viewSize_[v] = {static_cast<uint32_t>(proj.views[v].subImage.imageRect.extent.width),
                         static_cast<uint32_t>(proj.views[v].subImage.imageRect.extent.height)};

@@ -98,6 +98,10 @@ struct SessionStats {
   uint64_t lastTimingIndex = UINT64_MAX;
   uint64_t imuFrames = 0;          // frames whose head speed came from the IMU
   uint64_t imuFallbackFrames = 0;  // pose_source = imu, but no IMU sample near the display time
+  bool jitter = false;             // jitter = 1 with a temporal method: the counters below apply
+  uint64_t jitterApplied = 0;      // views jittered in xrLocateViews
+  uint64_t jitterUndone = 0;       // filtered views submitted with the jitter undone
+  uint64_t jitterUnmatched = 0;    // filtered views whose fov was not one the layer jittered
   std::string summary() const;
 };
 
@@ -130,6 +134,7 @@ class Session {
   void openImu();
   OwnedSwapchain* ensureOutput(AppSwapchain& app);
   std::optional<PassReason> filterProjection(const XrCompositionLayerProjection& layer, int64_t displayTime,
+                                             const std::vector<ViewUnjitter>& unjitter,
                                              std::vector<XrSwapchain>* outputs);
   float headSpeed(const XrCompositionLayerProjection& layer, int64_t displayTime);
   void passed(PassReason reason, const std::string& detail);
@@ -156,9 +161,11 @@ class Session {
   SessionStats stats_;
   ImageDumper dumper_;
   bool mutableFormat_ = false;
-  // jitter = on: sub-pixel Halton offsets injected into xrLocateViews' fov.
+  // jitter = on with a temporal method (the only ones that un-jitter the image): sub-pixel
+  // Halton offsets injected into xrLocateViews' fov, undone in xrEndFrame.
+  bool jitter_ = false;
+  JitterTracker jitterTracker_;
   std::array<VkExtent2D, 2> viewSize_{};  // pixel size of each view's last filtered rect
-  uint32_t jitterIndex_ = 0;
 };
 
 }  // namespace steadyxr::layer
