@@ -97,8 +97,9 @@ std::vector<std::string> defaultMethods(bool sweeps) {
   }
   m.push_back("default");
   if (sweeps) {
-    for (const char* s : {"hmtaa@hmax=10", "hmtaa@hmax=50", "hmtaa@wmin=0.15", "hmtaa@wmin=0.5",
-                          "taa@alpha=0.05", "taa@alpha=0.2", "default@amin=0.02", "default@amin=0.15"}) {
+    for (const char* s :
+         {"hmtaa@hmax=10", "hmtaa@hmax=50", "hmtaa@wmin=0.15", "hmtaa@wmin=0.5", "taa@alpha=0.05",
+          "taa@alpha=0.2", "default@amin=0.02", "default@amin=0.15", "default@fused=1"}) {
       m.push_back(s);
     }
   }
@@ -160,8 +161,10 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->stereoBetaMin = value;
     else if (key == "d")
       params->sampleD[0] = value;
+    else if (key == "fused")
+      params->fusedStereo = value != 0.0f;
     else {
-      *error = "unknown parameter '" + key + "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d)";
+      *error = "unknown parameter '" + key + "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d, fused)";
       return false;
     }
     v->sweep = true;

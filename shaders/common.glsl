@@ -18,6 +18,8 @@ layout(constant_id = 4) const bool kEncodeSrgb = false;
 layout(constant_id = 5) const bool kSwapRB = false;
 layout(constant_id = 6) const int kDepthBits = 0;     // bit0: this eye's depth, bit1: other eye's
 layout(constant_id = 7) const int kCleanSrc = 0;      // bit0: src0, bit1: src1 is our own history (finite)
+layout(constant_id = 8) const bool kStereo = false;   // temporal: stereo blend fused in (uOther)
+layout(constant_id = 9) const bool kJitter = false;   // src0 was rendered on a jittered grid
 
 layout(set = 0, binding = 0) uniform sampler2D uSrc0;    // current colour / this eye
 layout(set = 0, binding = 1) uniform sampler2D uSrc1;    // history / other eye
@@ -27,6 +29,8 @@ layout(set = 0, binding = 4, rgba16f) uniform writeonly image2D uHistOut;
 layout(set = 0, binding = 5, OUT_FORMAT) uniform writeonly image2D uOut;
 
 // Must match PassUniforms in filter.cpp (std140).
+layout(set = 0, binding = 7) uniform sampler2D uOther;   // fused stereo: other eye's last history
+
 layout(set = 0, binding = 6, std140) uniform PassParams {
   mat4 reproj[4];     // (x, y, 1, 1/z) of this pixel -> homogeneous pixel coords in src1's rect
   vec4 sampleW;       // W(d_i), seed 003 Eq. 2
@@ -42,6 +46,11 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   ivec4 flags;        // (mode), (sampleCount), historyValid, (writeOut); () = spec constant now
   ivec4 flags2;       // (encodeSrgb), (swapRB), (writeHist), (hasDepth)
   ivec4 outOffset;    // xy where pixel (0,0) goes in uOut
+  mat4 stereoReproj[2]; // fused stereo: this pixel -> [0] other eye's last history, [1] its depth now
+  ivec4 src2Rect;     // fused stereo: the other eye's history rect (also its depth's size)
+  vec4 src2InvExtent;
+  vec4 stereo;        // betaMin, other eye's history valid (0/1), -, -
+  vec4 jitter;        // xy: src0's grid offset in pixels (its pixel c - jitter holds our pixel c)
 } P;
 
 vec3 sanitize(vec3 c) {
@@ -52,7 +61,13 @@ vec3 sanitize(vec3 c) {
 
 vec3 fetchSrc0(ivec2 p) {
   p = clamp(p, ivec2(0), P.src0Rect.zw - 1);
-  vec3 c = texelFetch(uSrc0, P.src0Rect.xy + p, 0).rgb;
+  vec3 c;
+  if (kJitter) {  // un-jitter: bilinear at our pixel centre on src0's grid, inside its rect
+    vec2 q = clamp(vec2(p) + 0.5 - P.jitter.xy, vec2(0.5), vec2(P.src0Rect.zw) - 0.5);
+    c = textureLod(uSrc0, (vec2(P.src0Rect.xy) + q) * P.src0InvExtent.xy, 0.0).rgb;
+  } else {
+    c = texelFetch(uSrc0, P.src0Rect.xy + p, 0).rgb;
+  }
   return (kCleanSrc & 1) != 0 ? c : sanitize(c);
 }
 
@@ -68,7 +83,6 @@ void loadBlock(ivec2 base) {
 }
 vec3 blockAt(ivec2 o, int x, int y) { return gBlock[(o.y + 1 + y) * (kBlockW + 2) + (o.x + 1 + x)]; }
 
-// Bilinear sample of src1 at continuous pixel coords q (pixel centres at +0.5) of its rect.
 // Bilinear sample of src1 at continuous pixel coords q (pixel centres at +0.5) of its rect.
 vec3 sampleSrc1(vec2 q) {
   q = clamp(q, vec2(0.5), vec2(P.src1Rect.zw) - 0.5);
@@ -95,14 +109,17 @@ void writeOutput(ivec2 p, vec3 c) {
   imageStore(uOut, P.outOffset.xy + p, o);
 }
 
-// Reprojects pixel centre p (with 1/z) through matrix m; returns false when behind or outside.
-bool reproject(mat4 m, vec2 pc, float invZ, out vec2 q, out float invZOther) {
+// Reprojects pixel centre p (with 1/z) through matrix m into an image of `size` pixels; returns
+// false when behind or outside.
+bool reprojectInto(mat4 m, vec2 pc, float invZ, ivec2 size, out vec2 q, out float invZOther) {
   vec4 h = m * vec4(pc, 1.0, invZ);
   invZOther = 0.0;
   q = vec2(-1.0);
   if (!(h.z > 1e-12)) return false;
   q = h.xy / h.z;
   invZOther = h.w / h.z;
-  vec2 size = vec2(P.src1Rect.zw);
-  return all(greaterThanEqual(q, vec2(0.0))) && all(lessThanEqual(q, size));
+  return all(greaterThanEqual(q, vec2(0.0))) && all(lessThanEqual(q, vec2(size)));
+}
+bool reproject(mat4 m, vec2 pc, float invZ, out vec2 q, out float invZOther) {
+  return reprojectInto(m, pc, invZ, P.src1Rect.zw, q, invZOther);
 }

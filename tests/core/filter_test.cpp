@@ -31,6 +31,7 @@ struct Frame {
   std::array<HostImage, 2> depth{};  // empty = none
   float headSpeed = 0.0f;
   bool reset = false;
+  std::array<glm::vec2, 2> jitter{};  // ViewFrame::jitterPx
 };
 
 // Per-eye input/output images of one size; runs frames through a Filter and reads outputs back.
@@ -58,6 +59,7 @@ class Rig {
       sf.views[e].color = in_[e]->ref(0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
       sf.views[e].pose = fr.views[e].pose;
       sf.views[e].fov = fr.views[e].fov;
+      sf.views[e].jitterPx = fr.jitter[e];
       if (!fr.depth[e].px.empty()) {
         depth_[e]->upload(fr.depth[e], 0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
         DepthRef d;
@@ -377,6 +379,169 @@ TEST_P(StereoReference, MatchesCpuReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Depth, StereoReference, ::testing::Bool());
+
+// The stereo blend fused into the temporal pass (Params::fusedStereo): this eye's new
+// history blended with the other eye's history of the last frame, reprojected through the eye
+// offset and the head motion since; depth-checked against the other eye's depth of this frame.
+class FusedStereoReference : public CoreTest, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(FusedStereoReference, MatchesCpuReference) {
+  const std::string name = GetParam();
+  const bool withDepth = name.find("depth") != std::string::npos;
+  const std::string method = name.substr(0, name.find('-'));
+  Params p = *applyMethodName(method + "+stereo");
+  p.fusedStereo = true;
+  const uint32_t W = 64, H = 48;
+  std::string err;
+  auto f = Filter::create(*gCtx, p, &err);
+  ASSERT_TRUE(f) << err;
+  Rig rig(W, H);
+  Frame f1, f2;
+  f1.views = {eye(0.5f, 0.0f, {-0.032f, 0, 0}), eye(0.5f, 0.0f, {0.032f, 0, 0})};
+  f1.color = {pattern(W, H, 11, 0.08f), pattern(W, H, 12, 0.08f)};
+  f2.views = {eye(1.4f, -0.6f, {-0.022f, 0, 0.01f}), eye(1.4f, -0.6f, {0.042f, 0, 0.01f})};
+  f2.color = {pattern(W, H, 13, 0.08f), pattern(W, H, 14, 0.08f)};
+  f2.headSpeed = 5.0f;
+  if (withDepth) {
+    for (auto* fr : {&f1, &f2})
+      for (int e = 0; e < 2; ++e) {
+        fr->depth[e] = HostImage(W, H);
+        for (uint32_t y = 0; y < H; ++y)
+          for (uint32_t x = 0; x < W; ++x) {
+            const float z = (x > 20 && x < 36 && y > 10 && y < 30) ? 0.4f : 2.0f;  // a box before a wall
+            fr->depth[e].at(x, y).r = (1.0f / z - 1.0f / 0.1f) / (1.0f / 100.0f - 1.0f / 0.1f);
+          }
+      }
+  }
+  const auto out1 = rig.run(*f, f1);  // no history yet on either side: the input as is
+  for (int e = 0; e < 2; ++e) EXPECT_LE(compare(out1[e], f1.color[e]).maxAbs, 1e-3f);
+  const auto out2 = rig.run(*f, f2);
+  for (int e = 0; e < 2; ++e) {
+    const int o = 1 - e;
+    const HostImage* depthE = withDepth ? &f2.depth[e] : nullptr;
+    const HostImage temporal =
+        toHalf(test::temporalRef(p.temporal, p, toHalf(f2.color[e]), toHalf(f1.color[e]), true, f1.views[e],
+                                 f2.views[e], f2.headSpeed, depthE, 0.1f, 100.0f));
+    const HostImage want = test::stereoBlendRef(
+        p, temporal, toHalf(f2.color[e]), p.temporal == TemporalMethod::Taa, toHalf(f1.color[o]), f2.views[e],
+        f1.views[o], f2.views[o], depthE, withDepth ? &f2.depth[o] : nullptr, 0.1f, 100.0f);
+    const Diff d = compare(out2[e], want);
+    EXPECT_LE(d.meanAbs, 3e-3f) << name << " eye " << e;
+    EXPECT_LE(d.maxAbs, 0.08f) << name << " eye " << e;
+    EXPECT_GT(compare(out2[e], temporal).meanAbs, 2e-3f) << name << ": the stereo blend did something";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, FusedStereoReference,
+                         ::testing::Values("hybrid", "taa", "hmtaa", "vtaa", "hybrid-depth"),
+                         [](const auto& pinfo) {
+                           std::string s = pinfo.param;
+                           for (auto& c : s)
+                             if (c == '-') c = '_';
+                           return s;
+                         });
+
+// The separate seed-002 post pass (fusedStereo = false, the default) agrees with the stereo
+// reference applied to the temporal result of this frame.
+TEST_F(CoreTest, SeparateStereoPassAfterTemporalMatchesReference) {
+  const uint32_t W = 48, H = 40;
+  const Params p = *applyMethodName("hybrid+stereo");
+  ASSERT_FALSE(p.fusedStereo);
+  std::string err;
+  auto f = Filter::create(*gCtx, p, &err);
+  ASSERT_TRUE(f) << err;
+  Rig rig(W, H);
+  Frame f1, f2;
+  f1.views = {eye(0.0f, 0.0f, {-0.032f, 0, 0}), eye(0.0f, 0.0f, {0.032f, 0, 0})};
+  f1.color = {pattern(W, H, 21, 0.08f), pattern(W, H, 22, 0.08f)};
+  f2.views = {eye(0.8f, 0.3f, {-0.032f, 0, 0}), eye(0.8f, 0.3f, {0.032f, 0, 0})};
+  f2.color = {pattern(W, H, 23, 0.08f), pattern(W, H, 24, 0.08f)};
+  f2.headSpeed = 4.0f;
+  rig.run(*f, f1);
+  const auto out2 = rig.run(*f, f2);
+  std::array<HostImage, 2> temporal;
+  for (int e = 0; e < 2; ++e)
+    temporal[e] = toHalf(test::temporalRef(p.temporal, p, toHalf(f2.color[e]), toHalf(f1.color[e]), true,
+                                           f1.views[e], f2.views[e], f2.headSpeed));
+  for (int e = 0; e < 2; ++e) {
+    const HostImage want = test::stereoRef(p, temporal[e], temporal[1 - e], f2.views[e], f2.views[1 - e],
+                                           nullptr, nullptr, 0.1f, 100.0f);
+    const Diff d = compare(out2[e], want);
+    EXPECT_LE(d.meanAbs, 3e-3f) << "eye " << e;
+    EXPECT_LE(d.maxAbs, 0.08f) << "eye " << e;
+  }
+}
+
+// ViewFrame::jitterPx: the temporal passes read the current frame at c - jitter (bilinear), so the
+// output and history lie on the unjittered grid.
+TEST_F(CoreTest, JitterIsUndoneOnTheUnjitteredGrid) {
+  const uint32_t W = 48, H = 32;
+  const float kPi = 3.14159265f;
+  // A smooth scene f(u, v) in unjittered pixel units; a jittered render holds f(c + g) at pixel c.
+  auto scene = [&](float u, float v) {
+    return glm::vec4(0.5f + 0.4f * std::sin(2 * kPi * u / 16), 0.5f + 0.4f * std::cos(2 * kPi * v / 12),
+                     0.5f + 0.3f * std::sin(2 * kPi * (u + v) / 20), 1.0f);
+  };
+  auto render = [&](glm::vec2 g) {
+    HostImage img(W, H);
+    for (uint32_t y = 0; y < H; ++y)
+      for (uint32_t x = 0; x < W; ++x) img.at(x, y) = scene(x + 0.5f + g.x, y + 0.5f + g.y);
+    return img;
+  };
+  const HostImage truth = render({0, 0});
+  for (const char* m : {"hybrid", "taa", "hmtaa"}) {
+    Params p = *applyMethodName(m);
+    p.stereo = false;
+    std::string err;
+    auto f = Filter::create(*gCtx, p, &err);
+    ASSERT_TRUE(f) << err;
+    Rig rig(W, H);
+    const glm::vec2 g(0.37f, -0.29f);
+    Frame fr;
+    fr.views = {eye(0, 0), eye(0, 0, {0.06f, 0, 0})};
+    fr.color = {render(g), render(g)};
+    fr.jitter = {g, g};
+    const auto first = rig.run(*f, fr);  // no history: the current frame, un-jittered
+    HostImage want(W, H);
+    for (uint32_t y = 0; y < H; ++y)
+      for (uint32_t x = 0; x < W; ++x)
+        want.at(x, y) =
+            glm::vec4(test::bilinear(toHalf(fr.color[0]), glm::vec2(x + 0.5f, y + 0.5f) - g), 1.0f);
+    // Rows/columns at the border clamp to the rect: compare the interior.
+    auto interior = [&](const HostImage& a, const HostImage& b) {
+      double sum = 0;
+      float mx = 0;
+      for (uint32_t y = 1; y + 1 < H; ++y)
+        for (uint32_t x = 1; x + 1 < W; ++x)
+          for (int k = 0; k < 3; ++k) {
+            const float d = std::abs(a.at(x, y)[k] - b.at(x, y)[k]);
+            sum += d;
+            mx = std::max(mx, d);
+          }
+      return Diff{mx, float(sum / (3.0 * (W - 2) * (H - 2)))};
+    };
+    EXPECT_LE(interior(first[0], want).maxAbs, 4e-3f) << m;
+    const float rawError = interior(fr.color[0], truth).meanAbs;
+    EXPECT_LT(interior(first[0], truth).meanAbs, 0.25f * rawError) << m << ": the jittered frame as is";
+    // A still head with Halton jitter: the inputs change every frame, the output must not.
+    HostImage prev = first[0];
+    double outChange = 0, inChange = 0;
+    HostImage prevIn = fr.color[0];
+    for (uint32_t i = 1; i <= 8; ++i) {
+      const glm::vec2 gi(0.5f - std::fmod(0.5f + 0.618034f * float(i), 1.0f),
+                         0.5f - std::fmod(0.5f + 0.7548777f * float(i), 1.0f));
+      fr.color = {render(gi), render(gi)};
+      fr.jitter = {gi, gi};
+      const auto out = rig.run(*f, fr);
+      outChange += interior(out[0], prev).meanAbs;
+      inChange += interior(fr.color[0], prevIn).meanAbs;
+      prev = out[0];
+      prevIn = fr.color[0];
+    }
+    EXPECT_LT(outChange, 0.2 * inChange) << m << ": output shimmers with the jitter";
+    EXPECT_LT(interior(prev, truth).meanAbs, 0.35f * rawError) << m << ": drifted off the unjittered grid";
+  }
+}
 
 TEST_F(CoreTest, ConstantColourStaysConstantUnderEveryPass) {
   const uint32_t W = 32, H = 32;

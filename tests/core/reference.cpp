@@ -226,50 +226,64 @@ HostImage fxaaRef(const HostImage& in) {
   return out;
 }
 
-HostImage stereoRef(const core::Params& p, const HostImage& self, const HostImage& other,
-                    const RefView& selfView, const RefView& otherView, const HostImage* selfDepth,
-                    const HostImage* otherDepth, float nearZ, float farZ) {
+HostImage stereoBlendRef(const core::Params& p, const HostImage& self, const HostImage& stats,
+                         bool yCoCgStats, const HostImage& other, const RefView& selfView,
+                         const RefView& otherSampleView, const RefView& otherDepthView,
+                         const HostImage* selfDepth, const HostImage* otherDepth, float nearZ, float farZ) {
   HostImage out(self.width, self.height);
+  auto space = [&](vec3 c) { return yCoCgStats ? yCoCg(c) : c; };
   for (uint32_t y = 0; y < self.height; ++y)
     for (uint32_t x = 0; x < self.width; ++x) {
-      const vec3 c = vec3(self.at(x, y));
+      const vec3 c = space(vec3(self.at(x, y)));
       vec3 nb[9];
       for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) nb[j * 3 + i] = fetchClamped(self, int(x) + i - 1, int(y) + j - 1);
+        for (int i = 0; i < 3; ++i)
+          nb[j * 3 + i] = space(fetchClamped(stats, int(x) + i - 1, int(y) + j - 1));
       const float dist =
           selfDepth ? distanceFromDepth(selfDepth->at(x, y).r, nearZ, farZ) : p.stereoFarDistanceM;
+      const vec2 pc(x + 0.5f, y + 0.5f);
+      const glm::uvec2 otherSize(other.width, other.height);
       vec3 result = c;
       vec2 q;
       float distOther;
-      if (reprojectRef(vec2(x + 0.5f, y + 0.5f), dist, selfView, otherView, {other.width, other.height}, &q,
-                       &distOther)) {
-        bool ok = true;
-        if (selfDepth && otherDepth) {
-          const int qx = std::clamp(int(std::floor(q.x)), 0, int(other.width) - 1);
-          const int qy = std::clamp(int(std::floor(q.y)), 0, int(other.height) - 1);
+      bool ok = reprojectRef(pc, dist, selfView, otherSampleView, otherSize, &q, &distOther);
+      if (ok && selfDepth && otherDepth) {
+        vec2 qd;
+        ok = reprojectRef(pc, dist, selfView, otherDepthView, otherSize, &qd, &distOther);
+        if (ok) {
+          const int qx = std::clamp(int(std::floor(qd.x)), 0, int(other.width) - 1);
+          const int qy = std::clamp(int(std::floor(qd.y)), 0, int(other.height) - 1);
           const float seen = distanceFromDepth(otherDepth->at(uint32_t(qx), uint32_t(qy)).r, nearZ, farZ);
           ok = std::abs(seen - distOther) <= p.stereoDepthTolerance * distOther;
         }
-        if (ok) {
-          vec3 xo = bilinear(other, q);
-          // Clip to this eye's RGB box mean +- gamma*sigma (gamma = taaClipGamma), widened to hold
-          // this eye's pixel c, towards the mean.
-          vec3 s1(0), s2(0);
-          for (const vec3& v : nb) {
-            s1 += v;
-            s2 += v * v;
-          }
-          const vec3 mean = s1 / 9.0f;
-          const vec3 sigma = glm::sqrt(glm::max(s2 / 9.0f - mean * mean, vec3(0)));
-          const vec3 t = glm::abs(xo - mean) / (glm::max(p.taaClipGamma * sigma, glm::abs(c - mean)) + 1e-6f);
-          const float mx = std::max({t.x, t.y, t.z});
-          if (mx > 1.0f) xo = mean + (xo - mean) / mx;
-          result = glm::mix(xo, c, eq4Alpha(xo, nb, p.stereoBetaMin));
-        }
       }
+      if (ok) {
+        vec3 xo = space(bilinear(other, q));
+        // Clip to this eye's box mean +- gamma*sigma (gamma = taaClipGamma), widened to hold this
+        // eye's pixel c, towards the mean.
+        vec3 s1(0), s2(0);
+        for (const vec3& v : nb) {
+          s1 += v;
+          s2 += v * v;
+        }
+        const vec3 mean = s1 / 9.0f;
+        const vec3 sigma = glm::sqrt(glm::max(s2 / 9.0f - mean * mean, vec3(0)));
+        const vec3 t = glm::abs(xo - mean) / (glm::max(p.taaClipGamma * sigma, glm::abs(c - mean)) + 1e-6f);
+        const float mx = std::max({t.x, t.y, t.z});
+        if (mx > 1.0f) xo = mean + (xo - mean) / mx;
+        result = glm::mix(xo, c, eq4Alpha(xo, nb, p.stereoBetaMin));
+      }
+      if (yCoCgStats) result = glm::max(rgb(result), vec3(0));
       out.at(x, y) = vec4(result, 1.0f);
     }
   return out;
+}
+
+HostImage stereoRef(const core::Params& p, const HostImage& self, const HostImage& other,
+                    const RefView& selfView, const RefView& otherView, const HostImage* selfDepth,
+                    const HostImage* otherDepth, float nearZ, float farZ) {
+  return stereoBlendRef(p, self, self, false, other, selfView, otherView, otherView, selfDepth, otherDepth,
+                        nearZ, farZ);
 }
 
 }  // namespace steadyxr::test

@@ -33,4 +33,14 @@ HostImage stereoRef(const core::Params& p, const HostImage& thisEye, const HostI
                     const RefView& thisView, const RefView& otherView, const HostImage* thisDepth,
                     const HostImage* otherDepth, float nearZ, float farZ);
 
+// The general stereo blend: this eye's values `self`, its 3x3 statistics from `stats` (in YCoCg
+// when yCoCgStats), the other eye's image `other` sampled where this pixel lands in
+// otherSampleView, the depth check where it lands in otherDepthView. stereoRef is the case
+// self = stats, both other views the same; the fused stereo of the temporal pass takes this eye's
+// new history as self, its current input as stats and the other eye's last history as other.
+HostImage stereoBlendRef(const core::Params& p, const HostImage& self, const HostImage& stats,
+                         bool yCoCgStats, const HostImage& other, const RefView& selfView,
+                         const RefView& otherSampleView, const RefView& otherDepthView,
+                         const HostImage* selfDepth, const HostImage* otherDepth, float nearZ, float farZ);
+
 }  // namespace steadyxr::test

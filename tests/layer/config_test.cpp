@@ -96,7 +96,7 @@ TEST(Config, ImuAndDumpKeys) {
   std::vector<std::string> messages;
   const Config c =
       resolveConfig(parseConfigText("pose_source = IMU\nimu_device = 1209:5a17\ndump_frames = 5\n"
-                                    "dump_dir = /tmp/d\njitter = on\nsample_count = 2\n",
+                                    "dump_dir = /tmp/d\njitter = on\nsample_count = 2\nfused_stereo = 1\n",
                                     &messages),
                     "a", envOf({}), &messages);
   EXPECT_TRUE(messages.empty());
@@ -106,6 +106,12 @@ TEST(Config, ImuAndDumpKeys) {
   EXPECT_EQ(c.dumpDir, "/tmp/d");
   EXPECT_TRUE(c.jitter);
   EXPECT_EQ(c.params.sampleCount, 2u);
+  EXPECT_TRUE(c.params.fusedStereo);
+  messages.clear();
+  const Config bad =
+      resolveConfig(parseConfigText("fused_stereo = maybe\n", &messages), "a", envOf({}), &messages);
+  EXPECT_FALSE(bad.params.fusedStereo);
+  EXPECT_TRUE(mentions(messages, "fused_stereo", "maybe"));
 }
 
 TEST(Config, FileSearchOrder) {

@@ -35,6 +35,15 @@ constexpr uint32_t kGroupX = 16, kGroupY = 8;  // matches local_size in common.g
 enum class Pass : uint32_t { Copy, Temporal, Stereo, Fxaa, Count };
 enum OutFmt : uint32_t { kOut8 = 0, kOut16 = 1 };
 
+// The one descriptor set layout of every pass (common.glsl): 0-3 samplers (src0, src1, depth0,
+// depth1), 4-5 storage images (history out, output), 6 the uniforms, 7 sampler (other eye's history).
+constexpr uint32_t kBindings = 8;
+constexpr VkDescriptorType descriptorType(uint32_t binding) {
+  return binding < 4 || binding == 7 ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+         : binding < 6               ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+                                     : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+}
+
 // Mirrors PassParams in shaders/common.glsl (std140: every member is 16-byte aligned).
 struct PassUniforms {
   glm::mat4 reproj[4];
@@ -51,8 +60,13 @@ struct PassUniforms {
   glm::ivec4 flags;
   glm::ivec4 flags2;
   glm::ivec4 outOffset;
+  glm::mat4 stereoReproj[2];
+  glm::ivec4 src2Rect;
+  glm::vec4 src2InvExtent;
+  glm::vec4 stereo;
+  glm::vec4 jitter;
 };
-static_assert(sizeof(PassUniforms) == 464);
+static_assert(sizeof(PassUniforms) == 656);
 
 bool finitePose(const Pose& p) {
   return std::isfinite(p.orientation.w) && std::isfinite(p.orientation.x) && std::isfinite(p.orientation.y) &&
@@ -182,7 +196,7 @@ struct Filter::Impl {
   Unique<VkDescriptorSetLayout> setLayout;
   Unique<VkPipelineLayout> pipelineLayout;
   // Keyed by pass, output format and the specialisation constants (see common.glsl).
-  using SpecKey = std::array<int32_t, 8>;
+  using SpecKey = std::array<int32_t, 10>;
   std::map<std::tuple<Pass, OutFmt, SpecKey>, Unique<VkPipeline>> pipelines;
   std::array<Slot, kSlots> slots;
   std::array<EyeState, 2> eyes;
@@ -286,14 +300,12 @@ bool Filter::Impl::init(std::string* error) {
     return fail(error, "vkCreateSampler failed"), false;
   samplerNearest = Unique<VkSampler>(device, smp);
 
-  std::array<VkDescriptorSetLayoutBinding, 7> b{};
+  std::array<VkDescriptorSetLayoutBinding, kBindings> b{};
   for (uint32_t i = 0; i < b.size(); ++i) {
     b[i].binding = i;
     b[i].descriptorCount = 1;
     b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-    b[i].descriptorType = i < 4   ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
-                          : i < 6 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
-                                  : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    b[i].descriptorType = descriptorType(i);
   }
   VkDescriptorSetLayoutCreateInfo dlci{};
   dlci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
@@ -335,7 +347,7 @@ bool Filter::Impl::init(std::string* error) {
       return fail(error, "vkCreateFence failed"), false;
     s.fence = Unique<VkFence>(device, fence);
     std::array<VkDescriptorPoolSize, 3> sizes{{
-        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4 * kMaxDispatches},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 5 * kMaxDispatches},
         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * kMaxDispatches},
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kMaxDispatches},
     }};
@@ -578,6 +590,9 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   const bool fxaa = method == TemporalMethod::Fxaa;
   const bool stereo = params.stereo && n == 2;
   const bool stage1 = temporal || fxaa || !stereo;  // `none` + stereo reads the inputs directly
+  // Fused: the temporal pass also does the stereo blend, from the other eye's last history.
+  const bool fused = stereo && temporal && params.fusedStereo;
+  const bool separateStereo = stereo && !fused;
 
   // Internal images follow the rect size; a size change drops the history.
   for (uint32_t e = 0; e < n; ++e) {
@@ -739,7 +754,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   VkPipeline bound = VK_NULL_HANDLE;
   const Binding dummySampled{dummy16.view.get(), VK_IMAGE_LAYOUT_GENERAL};
   auto dispatch = [&](Pass pass, OutFmt fmt, const PassUniforms& u, Binding src0, Binding src1, Binding d0,
-                      Binding d1, VkImageView histOut, VkImageView out) -> bool {
+                      Binding d1, VkImageView histOut, VkImageView out, Binding other = {}) -> bool {
     const bool writeOut = u.flags.w != 0;
     const SpecKey spec{pass == Pass::Temporal ? u.flags.x : 0,
                        pass == Pass::Temporal ? std::max(u.flags.y, 1) : 1,
@@ -748,7 +763,9 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
                        writeOut && u.flags2.x != 0 ? 1 : 0,
                        writeOut && u.flags2.y != 0 ? 1 : 0,
                        u.flags2.w,
-                       (src0.clean ? 1 : 0) | (src1.clean ? 2 : 0)};
+                       (src0.clean ? 1 : 0) | (src1.clean ? 2 : 0),
+                       pass == Pass::Temporal && other.view ? 1 : 0,
+                       pass == Pass::Temporal && (u.jitter.x != 0.0f || u.jitter.y != 0.0f) ? 1 : 0};
     const VkPipeline p = pipeline(pass, fmt, spec, error);
     if (!p || dispatchIndex >= kMaxDispatches) return false;
     const VkDeviceSize offset = uboStride * dispatchIndex++;
@@ -762,7 +779,11 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
     VkDescriptorSet set = VK_NULL_HANDLE;
     if (vkAllocateDescriptorSets(device, &dsai, &set) != VK_SUCCESS)
       return fail(error, "descriptor pool"), false;
-    std::array<VkDescriptorImageInfo, 6> ii{{
+    auto sampled = [&](Binding b) -> VkDescriptorImageInfo {
+      return b.view ? VkDescriptorImageInfo{sampler.get(), b.view, b.layout}
+                    : VkDescriptorImageInfo{sampler.get(), dummySampled.view, dummySampled.layout};
+    };
+    std::array<VkDescriptorImageInfo, kBindings> ii{{
         {sampler.get(), src0.view ? src0.view : dummySampled.view,
          src0.view ? src0.layout : dummySampled.layout},
         {sampler.get(), src1.view ? src1.view : dummySampled.view,
@@ -774,22 +795,22 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
         {VK_NULL_HANDLE, histOut ? histOut : dummy16.view.get(), VK_IMAGE_LAYOUT_GENERAL},
         {VK_NULL_HANDLE, out ? out : (fmt == kOut8 ? dummy8.view.get() : dummy16.view.get()),
          VK_IMAGE_LAYOUT_GENERAL},
+        {},  // 6: the uniform buffer
+        sampled(other),
     }};
     const VkDescriptorBufferInfo bi{s.ubo.get(), offset, sizeof(PassUniforms)};
-    std::array<VkWriteDescriptorSet, 7> w{};
+    std::array<VkWriteDescriptorSet, kBindings> w{};
     for (uint32_t i = 0; i < w.size(); ++i) {
       w[i] = {};
       w[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
       w[i].dstSet = set;
       w[i].dstBinding = i;
       w[i].descriptorCount = 1;
-      w[i].descriptorType = i < 4   ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
-                            : i < 6 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
-                                    : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-      if (i < 6)
-        w[i].pImageInfo = &ii[i];
-      else
+      w[i].descriptorType = descriptorType(i);
+      if (w[i].descriptorType == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER)
         w[i].pBufferInfo = &bi;
+      else
+        w[i].pImageInfo = &ii[i];
     }
     vkUpdateDescriptorSets(device, static_cast<uint32_t>(w.size()), w.data(), 0, nullptr);
     if (p != bound) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p);
@@ -844,9 +865,9 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   if (stage1) {
     for (uint32_t e = 0; e < n && ok; ++e) {
       PassUniforms u = baseUniforms(e);
-      const VkImageView out = stereo ? VK_NULL_HANDLE : targets[e].view;
-      const OutFmt fmt = stereo ? kOut8 : targets[e].fmt;
-      u.flags.w = stereo ? 0 : 1;
+      const VkImageView out = separateStereo ? VK_NULL_HANDLE : targets[e].view;
+      const OutFmt fmt = separateStereo ? kOut8 : targets[e].fmt;
+      u.flags.w = separateStereo ? 0 : 1;
       u.flags2.z = (temporal || stereo) ? 1 : 0;
       const VkImageView histOut = u.flags2.z ? eyes[e].history[cur].view.get() : VK_NULL_HANDLE;
       if (temporal) {
@@ -871,14 +892,44 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
                                                            : 3;
         u.flags.x = mode;
         u.flags.y = static_cast<int>(count);
-        ok =
-            dispatch(Pass::Temporal, fmt, u, inputs[e], historyBinding(e, prev), depths[e], {}, histOut, out);
+        u.jitter = {v.jitterPx.x, v.jitterPx.y, 0.0f, 0.0f};
+        if (!std::isfinite(u.jitter.x) || !std::isfinite(u.jitter.y) || std::abs(u.jitter.x) > 1.0f ||
+            std::abs(u.jitter.y) > 1.0f)
+          u.jitter = glm::vec4(0.0f);  // sub-pixel only; anything else is a caller bug: ignore it
+        Binding other{}, otherDepth{};
+        if (fused) {
+          // The other eye's history from the last frame (eye o writes only history[cur] now).
+          const uint32_t o = 1 - e;
+          const EyeState& eyeO = eyes[o];
+          const ViewFrame& vo = frame.views[o];
+          u.stereo = {params.stereoBetaMin, 0.0f, 0.0f, 0.0f};
+          if (eyeO.valid && poseOk[e] && poseOk[o]) {
+            other = historyBinding(o, prev);
+            u.stereo.y = 1.0f;
+            u.src2Rect = historyRect(o);
+            u.src2InvExtent = historyInv(o);
+            u.stereoReproj[0] = reprojection(v.pose, v.fov, eye.size, eyeO.prevPose, eyeO.prevFov, eyeO.size);
+            u.stereoReproj[1] = reprojection(v.pose, v.fov, eye.size, vo.pose, vo.fov, eyeO.size);
+            if (hasDepth[o]) {
+              otherDepth = depths[o];
+              u.depth1 = depthParams(*vo.depth);
+              const auto& r = vo.depth->image.rect;
+              u.depthOffset.z = r.offset.x;
+              u.depthOffset.w = r.offset.y;
+              u.flags2.w |= 2;
+            }
+          } else {
+            other = Binding{dummy16.view.get(), VK_IMAGE_LAYOUT_GENERAL, true};  // same pipeline, no blend
+          }
+        }
+        ok = dispatch(Pass::Temporal, fmt, u, inputs[e], historyBinding(e, prev), depths[e], otherDepth,
+                      histOut, out, other);
       } else {
         ok = dispatch(fxaa ? Pass::Fxaa : Pass::Copy, fmt, u, inputs[e], {}, {}, {}, histOut, out);
       }
     }
   }
-  if (ok && stereo && stage1) {
+  if (ok && separateStereo && stage1) {
     VkMemoryBarrier m{};
     m.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
     m.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
@@ -887,7 +938,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
                          1, &m, 0, nullptr, 0, nullptr);
   }
   if (s.queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, s.queries.get(), 1);
-  if (ok && stereo) {
+  if (ok && separateStereo) {
     for (uint32_t e = 0; e < 2 && ok; ++e) {
       const uint32_t o = 1 - e;
       PassUniforms u = baseUniforms(e);

@@ -69,8 +69,9 @@ constexpr FloatKey kFloatKeys[] = {
     {"reset_translation_m", &core::Params::resetTranslationM, 0.0f, 100.0f},
 };
 
-constexpr const char* kOtherKeys[] = {"enabled",  "method",      "pose_source", "imu_device", "log_level",
-                                      "log_file", "dump_frames", "dump_dir",    "jitter",     "sample_count"};
+constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source", "imu_device",
+                                      "log_level", "log_file",     "dump_frames", "dump_dir",
+                                      "jitter",    "sample_count", "fused_stereo"};
 
 std::string formatFloat(float f) {
   std::ostringstream os;
@@ -142,6 +143,11 @@ void applyKey(Config& c, const std::string& key, const std::string& value, const
       c.jitter = *b;
     else
       bad(messages, key, value, origin, "0");
+  } else if (key == "fused_stereo") {
+    if (auto b = parseBool(value))
+      c.params.fusedStereo = *b;
+    else
+      bad(messages, key, value, origin, defaults.params.fusedStereo ? "1" : "0");
   } else if (key == "sample_count") {
     if (auto n = parseCount(value); n && *n >= 1 && *n <= core::Params::kMaxSamples)
       c.params.sampleCount = *n;

@@ -32,7 +32,7 @@ struct Pose {
 struct ImageRef {
   VkImage image = VK_NULL_HANDLE;
   VkFormat format = VK_FORMAT_UNDEFINED;
-  VkExtent2D extent{};          // size of the whole image (mip 0)
+  VkExtent2D extent{};  // size of the whole image (mip 0)
   uint32_t arrayLayer = 0;
   uint32_t arrayLayerCount = 1;  // layers the image was created with
   VkRect2D rect{};               // the sub-image the view occupies (OpenXR imageRect)
@@ -67,10 +67,10 @@ struct ViewFrame {
 
 struct StereoFrame {
   std::array<ViewFrame, 2> views;
-  uint32_t viewCount = 2;          // 1 disables the stereo pass
-  int64_t displayTimeNs = 0;       // predicted display time of this frame
-  float headSpeedDegPerSec = 0.0f; // h for seed 003 Eq. 4, computed on the CPU by the caller
-  bool reset = false;              // drop all history before filtering this frame
+  uint32_t viewCount = 2;           // 1 disables the stereo pass
+  int64_t displayTimeNs = 0;        // predicted display time of this frame
+  float headSpeedDegPerSec = 0.0f;  // h for seed 003 Eq. 4, computed on the CPU by the caller
+  bool reset = false;               // drop all history before filtering this frame
 };
 
 struct StereoOutput {

@@ -27,30 +27,36 @@ struct Params {
   bool stereo = true;  // stereo blending after the temporal pass (display only)
 
   // taa
-  float taaAlpha = 0.1f;     // weight of the current frame
-  float taaClipGamma = 1.0f; // clip box = mean +- gamma * sigma (YCoCg); also hybrid's history
-                             // clip and stereo's clip of the other eye (RGB box)
+  float taaAlpha = 0.1f;      // weight of the current frame
+  float taaClipGamma = 1.0f;  // clip box = mean +- gamma * sigma (YCoCg); also hybrid's history
+                              // clip and stereo's clip of the other eye (RGB box)
 
   // hmtaa (seed 003 §5.2.2 defaults)
   float hMaxDegPerSec = 25.0f;
   float wMin = 0.3f;
-  float wLowerBound = 0.1f;                 // w_lb of Eq. 5
+  float wLowerBound = 0.1f;  // w_lb of Eq. 5
   static constexpr uint32_t kMaxSamples = 4;
-  uint32_t sampleCount = 1;                 // n past samples
+  uint32_t sampleCount = 1;                                                      // n past samples
   std::array<float, kMaxSamples> sampleD{2.0f / 3.0f, 1.0f / 3.0f, 0.0f, 0.0f};  // d_i in [0,1]
 
   // vtaa / hybrid
   float vtaaAlphaMin = 0.05f;  // lower clamp of alpha' (the weight of the current frame)
 
   // stereo (seed 002 §4.1, §5.2)
-  float stereoFarDistanceM = 10.0f;  // assumed scene distance when no depth is given
-  float stereoDepthTolerance = 0.05f; // relative depth difference that rejects the other eye
+  float stereoFarDistanceM = 10.0f;    // assumed scene distance when no depth is given
+  float stereoDepthTolerance = 0.05f;  // relative depth difference that rejects the other eye
   // Lower clamp of beta (the weight of this eye). The other eye is a sample as noisy as this
   // one, so it should never outweigh it (beta >= 0.5); 0.7 measured best (eval, 256x256).
   float stereoBetaMin = 0.7f;
+  // With a temporal method: true runs the stereo blend inside the temporal pass, on the other
+  // eye's filtered frame of the last frame reprojected to now, with this eye's input 3x3 as
+  // statistics (one pass per eye, no barrier); false runs seed 002's separate post pass on both
+  // eyes' filtered frames of this frame. Measured (eval, lavapipe): the same cost on lavapipe
+  // and a higher MTCD under fixation (the input's statistics shimmer), so false is the default.
+  bool fusedStereo = false;
 
   // history reset
-  float resetAngleDeg = 30.0f;        // a pose jump larger than this between frames resets history
+  float resetAngleDeg = 30.0f;  // a pose jump larger than this between frames resets history
   float resetTranslationM = 0.5f;
 };
 
