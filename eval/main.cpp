@@ -33,7 +33,7 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        suite uses the first three under fixation)
   --methods LIST       none,fxaa,msaa2,msaa4,taa,hmtaa,vtaa,hybrid, each also <m>+stereo,
                        stereo, default; sweeps as <m>@key=value[@key=value] with keys
-                       hmax,wmin,wlb,amin,alpha,gamma,beta,d,fused (default: all + sweeps)
+                       hmax,wmin,wlb,amin,alpha,gamma,beta,d,catmull (default: all + sweeps)
   --resolution WxH     per eye (default 256x256)
   --frames N           app frames per scenario (default 40)
   --seed N             head-motion seed (default 1)

@@ -18,8 +18,8 @@ layout(constant_id = 4) const bool kEncodeSrgb = false;
 layout(constant_id = 5) const bool kSwapRB = false;
 layout(constant_id = 6) const int kDepthBits = 0;     // bit0: this eye's depth, bit1: other eye's
 layout(constant_id = 7) const int kCleanSrc = 0;      // bit0: src0, bit1: src1 is our own history (finite)
-layout(constant_id = 8) const bool kStereo = false;   // temporal: stereo blend fused in (uOther)
-layout(constant_id = 9) const bool kJitter = false;   // src0 was rendered on a jittered grid
+layout(constant_id = 8) const bool kJitter = false;   // src0 was rendered on a jittered grid
+layout(constant_id = 9) const bool kCatmullRom = false;  // temporal: Catmull-Rom history sampling
 
 layout(set = 0, binding = 0) uniform sampler2D uSrc0;    // current colour / this eye
 layout(set = 0, binding = 1) uniform sampler2D uSrc1;    // history / other eye
@@ -29,8 +29,6 @@ layout(set = 0, binding = 4, rgba16f) uniform writeonly image2D uHistOut;
 layout(set = 0, binding = 5, OUT_FORMAT) uniform writeonly image2D uOut;
 
 // Must match PassUniforms in filter.cpp (std140).
-layout(set = 0, binding = 7) uniform sampler2D uOther;   // fused stereo: other eye's last history
-
 layout(set = 0, binding = 6, std140) uniform PassParams {
   mat4 reproj[4];     // (x, y, 1, 1/z) of this pixel -> homogeneous pixel coords in src1's rect
   vec4 sampleW;       // W(d_i), seed 003 Eq. 2
@@ -46,10 +44,6 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   ivec4 flags;        // (mode), (sampleCount), historyValid, (writeOut); () = spec constant now
   ivec4 flags2;       // (encodeSrgb), (swapRB), (writeHist), (hasDepth)
   ivec4 outOffset;    // xy where pixel (0,0) goes in uOut
-  mat4 stereoReproj[2]; // fused stereo: this pixel -> [0] other eye's last history, [1] its depth now
-  ivec4 src2Rect;     // fused stereo: the other eye's history rect (also its depth's size)
-  vec4 src2InvExtent;
-  vec4 stereo;        // betaMin, other eye's history valid (0/1), -, -
   vec4 jitter;        // xy: src0's grid offset in pixels (its pixel c - jitter holds our pixel c)
 } P;
 
@@ -90,6 +84,36 @@ vec3 sampleSrc1(vec2 q) {
   return (kCleanSrc & 2) != 0 ? c : sanitize(c);
 }
 
+// Catmull-Rom sample of src1 (the history) at continuous pixel coords q, from five bilinear taps
+// (the four corner taps, whose weights are tiny, dropped and the rest renormalised; Jimenez 2016,
+// as Bevy's and INSIDE's TAA do): bilinear resampling blurs the history a little on every frame
+// of sub-pixel head tremor, and the blur accumulates; Catmull-Rom keeps it sharp. Its negative
+// lobes can overshoot, so the result is clamped at 0 (the clip that follows bounds the rest).
+vec3 sampleSrc1CatmullRom(vec2 q) {
+  q = clamp(q, vec2(0.5), vec2(P.src1Rect.zw) - 0.5);
+  vec2 pos = q - 0.5;  // texel centres at integers
+  vec2 c = floor(pos);
+  vec2 f = pos - c;
+  vec2 w0 = f * (-0.5 + f * (1.0 - 0.5 * f));
+  vec2 w1 = 1.0 + f * f * (-2.5 + 1.5 * f);
+  vec2 w2 = f * (0.5 + f * (2.0 - 1.5 * f));
+  vec2 w3 = f * f * (-0.5 + 0.5 * f);
+  vec2 w12 = w1 + w2;
+  vec2 t0 = (vec2(P.src1Rect.xy) + c - 0.5) * P.src1InvExtent.xy;  // centre of texel c - 1
+  vec2 t3 = (vec2(P.src1Rect.xy) + c + 2.5) * P.src1InvExtent.xy;  // centre of texel c + 2
+  vec2 t12 = (vec2(P.src1Rect.xy) + c + 0.5 + w2 / w12) * P.src1InvExtent.xy;
+  vec3 r = textureLod(uSrc1, vec2(t12.x, t0.y), 0.0).rgb * (w12.x * w0.y) +
+           textureLod(uSrc1, vec2(t0.x, t12.y), 0.0).rgb * (w0.x * w12.y) +
+           textureLod(uSrc1, t12, 0.0).rgb * (w12.x * w12.y) +
+           textureLod(uSrc1, vec2(t3.x, t12.y), 0.0).rgb * (w3.x * w12.y) +
+           textureLod(uSrc1, vec2(t12.x, t3.y), 0.0).rgb * (w12.x * w3.y);
+  float wsum = w12.x * w0.y + w0.x * w12.y + w12.x * w12.y + w3.x * w12.y + w12.x * w3.y;
+  r = max(r / wsum, vec3(0.0));
+  return (kCleanSrc & 2) != 0 ? r : sanitize(r);
+}
+
+vec3 sampleHistory(vec2 q) { return kCatmullRom ? sampleSrc1CatmullRom(q) : sampleSrc1(q); }
+
 float invZFromDepth(float d, vec4 dp) {
   float n = clamp((d - dp.z) * dp.w, 0.0, 1.0);
   return max(dp.x + n * dp.y, 0.0);  // 1/z is linear in the stored depth
@@ -109,17 +133,14 @@ void writeOutput(ivec2 p, vec3 c) {
   imageStore(uOut, P.outOffset.xy + p, o);
 }
 
-// Reprojects pixel centre p (with 1/z) through matrix m into an image of `size` pixels; returns
-// false when behind or outside.
-bool reprojectInto(mat4 m, vec2 pc, float invZ, ivec2 size, out vec2 q, out float invZOther) {
+// Reprojects pixel centre p (with 1/z) through matrix m; returns false when behind or outside.
+bool reproject(mat4 m, vec2 pc, float invZ, out vec2 q, out float invZOther) {
   vec4 h = m * vec4(pc, 1.0, invZ);
   invZOther = 0.0;
   q = vec2(-1.0);
   if (!(h.z > 1e-12)) return false;
   q = h.xy / h.z;
   invZOther = h.w / h.z;
-  return all(greaterThanEqual(q, vec2(0.0))) && all(lessThanEqual(q, vec2(size)));
-}
-bool reproject(mat4 m, vec2 pc, float invZ, out vec2 q, out float invZOther) {
-  return reprojectInto(m, pc, invZ, P.src1Rect.zw, q, invZOther);
+  vec2 size = vec2(P.src1Rect.zw);
+  return all(greaterThanEqual(q, vec2(0.0))) && all(lessThanEqual(q, size));
 }

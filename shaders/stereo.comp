@@ -26,32 +26,29 @@ void processPixel(ivec2 p, ivec2 o) {
   float invZ = P.w1.w;
   if (hasThis) invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + p, 0).r, P.depth0);
 
-  vec3 result = y;
+  // No texture read under a condition (llvmpipe samples lane by lane there): read at clamped
+  // coordinates, select at the end.
   vec2 q;
   float izExpected;
-  if (reproject(P.reproj[0], vec2(p) + 0.5, invZ, q, izExpected)) {
-    bool ok = true;
-    if (hasThis && hasOther) {
-      ivec2 qi = clamp(ivec2(floor(q)), ivec2(0), P.src1Rect.zw - 1);
-      float izOther = invZFromDepth(texelFetch(uDepth1, P.depthOffset.zw + qi, 0).r, P.depth1);
-      // Relative depth difference |z_e - z_o| / z_e = |iz_o - iz_e| / iz_o (infinite depths match).
-      ok = abs(izOther - izExpected) <= P.w1.z * izOther + 1e-7;
-    }
-    if (ok) {
-      vec3 x = sampleSrc1(q);
-      vec3 dx = x - mn;
-      // The box always holds this eye's own pixel: identical eyes stay unchanged.
-      vec3 t = abs(dx) / (max(P.w0.y * sqrt(var), abs(y - mn)) + 1e-6);
-      float mx = max(t.x, max(t.y, t.z));
-      if (mx > 1.0) x = mn + dx / mx;
-      float s2 = (var.r + var.g + var.b) / 3.0;
-      vec3 d = x - mn;
-      float e = dot(d, d) / 3.0 + s2;
-      float beta = e > 1e-12 ? 1.0 - s2 / e : 0.0;
-      beta = clamp(beta, P.w0.z, 1.0);
-      result = mix(x, y, beta);
-    }
+  bool ok = reproject(P.reproj[0], vec2(p) + 0.5, invZ, q, izExpected);
+  if (hasThis && hasOther) {
+    ivec2 qi = clamp(ivec2(floor(q)), ivec2(0), P.src1Rect.zw - 1);
+    float izOther = invZFromDepth(texelFetch(uDepth1, P.depthOffset.zw + qi, 0).r, P.depth1);
+    // Relative depth difference |z_e - z_o| / z_e = |iz_o - iz_e| / iz_o (infinite depths match).
+    ok = ok && abs(izOther - izExpected) <= P.w1.z * izOther + 1e-7;
   }
+  vec3 x = sampleSrc1(q);
+  vec3 dx = x - mn;
+  // The box always holds this eye's own pixel: identical eyes stay unchanged.
+  vec3 t = abs(dx) / (max(P.w0.y * sqrt(var), abs(y - mn)) + 1e-6);
+  float mx = max(t.x, max(t.y, t.z));
+  if (mx > 1.0) x = mn + dx / mx;
+  float s2 = (var.r + var.g + var.b) / 3.0;
+  vec3 d = x - mn;
+  float e = dot(d, d) / 3.0 + s2;
+  float beta = e > 1e-12 ? 1.0 - s2 / e : 0.0;
+  beta = clamp(beta, P.w0.z, 1.0);
+  vec3 result = ok ? mix(x, y, beta) : y;
   if (any(isnan(result)) || any(isinf(result))) result = y;
   writeOutput(p, result);
 }

@@ -1,9 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Temporal passes: taa (mode 0), hmtaa (1), vtaa (2), hybrid (3). Writes the new history
-// (RGBA16F, linear light) and, unless a separate stereo pass follows, the output. With kStereo
-// the stereo blend is fused in: the output (never the history) also takes the other eye's last
-// filtered frame, reprojected through both the eye offset and the head motion since.
+// (RGBA16F, linear light) and, when no stereo pass follows, the output.
 #include "common.glsl"
 
 const int kTaa = 0;
@@ -24,13 +22,15 @@ vec3 clipToBox(vec3 h, vec3 mn, vec3 ext) {
   return mx > 1.0 ? mn + d / mx : h;
 }
 
+// Texture reads are never put under a data-dependent condition: llvmpipe can run a sample inside
+// divergent control flow lane by lane. Samples are taken at clamped coordinates and weighted or
+// selected instead.
 void addSample(mat4 m, float w, vec2 pc, float invZ, inout vec3 past, inout float wsum) {
   vec2 q;
   float iz;
-  if (reproject(m, pc, invZ, q, iz)) {
-    past += w * sampleSrc1(q);
-    wsum += w;
-  }
+  float wv = reproject(m, pc, invZ, q, iz) ? w : 0.0;
+  past += wv * sampleHistory(q);  // q is clamped into the image inside
+  wsum += wv;
 }
 
 // Seed 003 Eq. 1/2: W-weighted sum of the interpolated reprojections; false if none is valid.
@@ -57,47 +57,11 @@ float varianceAlpha(vec3 x, vec3 mean, vec3 var) {
   return clamp(a, P.w0.z, 1.0);
 }
 
-// Fused stereo blend (seed 002 §4.1 with Eq. 4): the other eye's last history x, clipped to this
-// pixel's colour box mean +- max(gamma*sigma, |y - mean|) (the box always holds this eye's own
-// result y: a foreign colour from a moving object or a missed depth check cannot come in, and
-// identical eyes stay unchanged), blended with beta >= betaMin. Stats as the temporal pass's
-// 3x3 (YCoCg for taa, RGB otherwise).
-vec3 stereoBlend(vec2 pc, float invZ, vec3 y, vec3 mn, vec3 var) {
-  vec2 q;
-  float iz;
-  if (!reprojectInto(P.stereoReproj[0], pc, invZ, P.src2Rect.zw, q, iz)) return y;
-  if ((kDepthBits & 3) == 3) {
-    // Depth check against the other eye's depth of this frame, where this pixel lands now.
-    vec2 qn;
-    float izExpected;
-    if (!reprojectInto(P.stereoReproj[1], pc, invZ, P.src2Rect.zw, qn, izExpected)) return y;
-    ivec2 qi = clamp(ivec2(floor(qn)), ivec2(0), P.src2Rect.zw - 1);
-    float izOther = invZFromDepth(texelFetch(uDepth1, P.depthOffset.zw + qi, 0).r, P.depth1);
-    if (abs(izOther - izExpected) > P.w1.z * izOther + 1e-7) return y;
-  }
-  q = clamp(q, vec2(0.5), vec2(P.src2Rect.zw) - 0.5);
-  vec3 x = textureLod(uOther, (vec2(P.src2Rect.xy) + q) * P.src2InvExtent.xy, 0.0).rgb;  // our history
-  if (kMode == kTaa) {
-    x = toYCoCg(x);
-    y = toYCoCg(y);
-  }
-  vec3 dx = x - mn;
-  vec3 t = abs(dx) / (max(P.w0.y * sqrt(var), abs(y - mn)) + 1e-6);
-  float mx = max(t.x, max(t.y, t.z));
-  if (mx > 1.0) x = mn + dx / mx;
-  float s2 = (var.r + var.g + var.b) / 3.0;
-  vec3 d = x - mn;
-  float e = dot(d, d) / 3.0 + s2;
-  float beta = clamp(e > 1e-12 ? 1.0 - s2 / e : 0.0, P.stereo.x, 1.0);
-  vec3 r = mix(x, y, beta);
-  return kMode == kTaa ? max(fromYCoCg(r), vec3(0.0)) : r;
-}
-
 void processPixel(ivec2 p, ivec2 o) {
   ivec2 size = P.src0Rect.zw;
   if (any(greaterThanEqual(p, size))) return;
   const int mode = kMode;
-  const bool neighbourhood = mode != kHmtaa || kStereo;
+  const bool neighbourhood = mode != kHmtaa;
   vec2 pc = vec2(p) + 0.5;
   vec3 cur = neighbourhood ? blockAt(o, 0, 0) : fetchSrc0(p);
 
@@ -132,12 +96,11 @@ void processPixel(ivec2 p, ivec2 o) {
     if (mode == kTaa) {
       vec2 q;
       float iz;
-      if (reproject(P.reproj[0], pc, invZ, q, iz)) {
-        // Variance clipping: clip the history towards the mean onto the box mean +- gamma*sigma.
-        vec3 h = toYCoCg(sampleSrc1(q));
-        h = clipToBox(h, mn, P.w0.y * sqrt(var) + 1e-6);
-        result = max(mix(fromYCoCg(h), cur, P.w0.x), vec3(0.0));
-      }
+      bool inside = reproject(P.reproj[0], pc, invZ, q, iz);
+      // Variance clipping: clip the history towards the mean onto the box mean +- gamma*sigma.
+      vec3 h = toYCoCg(sampleHistory(q));
+      h = clipToBox(h, mn, P.w0.y * sqrt(var) + 1e-6);
+      if (inside) result = max(mix(fromYCoCg(h), cur, P.w0.x), vec3(0.0));
     } else if (pastColour(pc, invZ, past)) {
       float a;
       if (mode == kVtaa) {
@@ -170,20 +133,13 @@ void processPixel(ivec2 p, ivec2 o) {
   if (any(isnan(result)) || any(isinf(result))) result = cur;
   result = clamp(result, vec3(0.0), vec3(65000.0));  // stays finite in half precision
   if (kWriteHist) imageStore(uHistOut, p, vec4(result, 1.0));
-  if (kWriteOut) {
-    vec3 shown = result;
-    if (kStereo && P.stereo.y > 0.0) {
-      shown = stereoBlend(pc, invZ, result, mn, var);
-      if (any(isnan(shown)) || any(isinf(shown))) shown = result;
-    }
-    writeOutput(p, shown);
-  }
+  if (kWriteOut) writeOutput(p, result);
 }
 
 void main() {
   ivec2 base = ivec2(gl_GlobalInvocationID.xy) * ivec2(kBlockW, kBlockH);
   if (any(greaterThanEqual(base, P.src0Rect.zw))) return;
-  if (kMode != kHmtaa || kStereo) loadBlock(base);
+  if (kMode != kHmtaa) loadBlock(base);
   processPixel(base, ivec2(0, 0));
   processPixel(base + ivec2(1, 0), ivec2(1, 0));
   processPixel(base + ivec2(2, 0), ivec2(2, 0));

@@ -270,6 +270,10 @@ TEST_P(TemporalReference, MatchesCpuReference) {
     p = *applyMethodName("hmtaa");
     p.sampleCount = 2;
   }
+  if (method == "hybrid-catmull" || method == "taa-catmull") {
+    p = *applyMethodName(method.substr(0, method.find('-')));
+    p.historyFilter = HistoryFilter::CatmullRom;
+  }
   const bool withDepth = method == "taa-depth";
   if (withDepth) p = *applyMethodName("taa");
   std::string err;
@@ -312,7 +316,8 @@ TEST_P(TemporalReference, MatchesCpuReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Passes, TemporalReference,
-                         ::testing::Values("taa", "hmtaa", "hmtaa2", "vtaa", "hybrid", "taa-depth"),
+                         ::testing::Values("taa", "hmtaa", "hmtaa2", "vtaa", "hybrid", "taa-depth",
+                                           "hybrid-catmull", "taa-catmull"),
                          [](const auto& pinfo) {
                            std::string s = pinfo.param;
                            for (auto& c : s)
@@ -349,7 +354,9 @@ class StereoReference : public CoreTest, public ::testing::WithParamInterface<bo
 TEST_P(StereoReference, MatchesCpuReference) {
   const bool withDepth = GetParam();
   const uint32_t W = 64, H = 48;
-  auto f = makeFilter("stereo");
+  Params base;
+  base.stereoBetaMin = 0.5f;  // a visible blend; the default (0.9) takes at most 10 % of the other eye
+  auto f = makeFilter("stereo", base);
   Rig rig(W, H);
   Frame fr;
   fr.views = {eye(0.5f, 0.0f, {-0.032f, 0, 0}), eye(0.5f, 0.0f, {0.032f, 0, 0})};
@@ -365,7 +372,7 @@ TEST_P(StereoReference, MatchesCpuReference) {
     }
   }
   const auto out = rig.run(*f, fr);
-  const Params p = *applyMethodName("stereo");
+  const Params p = *applyMethodName("stereo", base);
   for (int e = 0; e < 2; ++e) {
     const int o = 1 - e;
     const HostImage want =
@@ -380,73 +387,11 @@ TEST_P(StereoReference, MatchesCpuReference) {
 
 INSTANTIATE_TEST_SUITE_P(Depth, StereoReference, ::testing::Bool());
 
-// The stereo blend fused into the temporal pass (Params::fusedStereo): this eye's new
-// history blended with the other eye's history of the last frame, reprojected through the eye
-// offset and the head motion since; depth-checked against the other eye's depth of this frame.
-class FusedStereoReference : public CoreTest, public ::testing::WithParamInterface<std::string> {};
-
-TEST_P(FusedStereoReference, MatchesCpuReference) {
-  const std::string name = GetParam();
-  const bool withDepth = name.find("depth") != std::string::npos;
-  const std::string method = name.substr(0, name.find('-'));
-  Params p = *applyMethodName(method + "+stereo");
-  p.fusedStereo = true;
-  const uint32_t W = 64, H = 48;
-  std::string err;
-  auto f = Filter::create(*gCtx, p, &err);
-  ASSERT_TRUE(f) << err;
-  Rig rig(W, H);
-  Frame f1, f2;
-  f1.views = {eye(0.5f, 0.0f, {-0.032f, 0, 0}), eye(0.5f, 0.0f, {0.032f, 0, 0})};
-  f1.color = {pattern(W, H, 11, 0.08f), pattern(W, H, 12, 0.08f)};
-  f2.views = {eye(1.4f, -0.6f, {-0.022f, 0, 0.01f}), eye(1.4f, -0.6f, {0.042f, 0, 0.01f})};
-  f2.color = {pattern(W, H, 13, 0.08f), pattern(W, H, 14, 0.08f)};
-  f2.headSpeed = 5.0f;
-  if (withDepth) {
-    for (auto* fr : {&f1, &f2})
-      for (int e = 0; e < 2; ++e) {
-        fr->depth[e] = HostImage(W, H);
-        for (uint32_t y = 0; y < H; ++y)
-          for (uint32_t x = 0; x < W; ++x) {
-            const float z = (x > 20 && x < 36 && y > 10 && y < 30) ? 0.4f : 2.0f;  // a box before a wall
-            fr->depth[e].at(x, y).r = (1.0f / z - 1.0f / 0.1f) / (1.0f / 100.0f - 1.0f / 0.1f);
-          }
-      }
-  }
-  const auto out1 = rig.run(*f, f1);  // no history yet on either side: the input as is
-  for (int e = 0; e < 2; ++e) EXPECT_LE(compare(out1[e], f1.color[e]).maxAbs, 1e-3f);
-  const auto out2 = rig.run(*f, f2);
-  for (int e = 0; e < 2; ++e) {
-    const int o = 1 - e;
-    const HostImage* depthE = withDepth ? &f2.depth[e] : nullptr;
-    const HostImage temporal =
-        toHalf(test::temporalRef(p.temporal, p, toHalf(f2.color[e]), toHalf(f1.color[e]), true, f1.views[e],
-                                 f2.views[e], f2.headSpeed, depthE, 0.1f, 100.0f));
-    const HostImage want = test::stereoBlendRef(
-        p, temporal, toHalf(f2.color[e]), p.temporal == TemporalMethod::Taa, toHalf(f1.color[o]), f2.views[e],
-        f1.views[o], f2.views[o], depthE, withDepth ? &f2.depth[o] : nullptr, 0.1f, 100.0f);
-    const Diff d = compare(out2[e], want);
-    EXPECT_LE(d.meanAbs, 3e-3f) << name << " eye " << e;
-    EXPECT_LE(d.maxAbs, 0.08f) << name << " eye " << e;
-    EXPECT_GT(compare(out2[e], temporal).meanAbs, 2e-3f) << name << ": the stereo blend did something";
-  }
-}
-
-INSTANTIATE_TEST_SUITE_P(Methods, FusedStereoReference,
-                         ::testing::Values("hybrid", "taa", "hmtaa", "vtaa", "hybrid-depth"),
-                         [](const auto& pinfo) {
-                           std::string s = pinfo.param;
-                           for (auto& c : s)
-                             if (c == '-') c = '_';
-                           return s;
-                         });
-
-// The separate seed-002 post pass (fusedStereo = false, the default) agrees with the stereo
-// reference applied to the temporal result of this frame.
+// Stereo after a temporal method (seed 002 §5.2: a post pass on both eyes' filtered frames)
+// agrees with the stereo reference applied to the temporal result of this frame.
 TEST_F(CoreTest, SeparateStereoPassAfterTemporalMatchesReference) {
   const uint32_t W = 48, H = 40;
   const Params p = *applyMethodName("hybrid+stereo");
-  ASSERT_FALSE(p.fusedStereo);
   std::string err;
   auto f = Filter::create(*gCtx, p, &err);
   ASSERT_TRUE(f) << err;

@@ -43,6 +43,29 @@ glm::vec3 bilinear(const HostImage& img, vec2 q) {
                   glm::mix(fetchClamped(img, x, y + 1), fetchClamped(img, x + 1, y + 1), f.x), f.y);
 }
 
+glm::vec3 catmullRom5(const HostImage& img, vec2 q) {
+  // Separable Catmull-Rom weights of the 4x4 texels around q, with the four corner texels left
+  // out and the remaining twelve renormalised (what five bilinear taps can express exactly).
+  q = glm::clamp(q, vec2(0.5f), vec2(img.width, img.height) - 0.5f) - 0.5f;
+  const vec2 c = glm::floor(q), f = q - c;
+  auto weights = [](float t) {
+    return vec4(t * (-0.5f + t * (1.0f - 0.5f * t)), 1.0f + t * t * (-2.5f + 1.5f * t),
+                t * (0.5f + t * (2.0f - 1.5f * t)), t * t * (-0.5f + 0.5f * t));
+  };
+  const vec4 wx = weights(f.x), wy = weights(f.y);
+  vec3 sum(0);
+  float wsum = 0;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      const bool edgeX = i == 0 || i == 3, edgeY = j == 0 || j == 3;
+      if (edgeX && edgeY) continue;
+      const float w = wx[i] * wy[j];
+      sum += w * fetchClamped(img, int(c.x) + i - 1, int(c.y) + j - 1);
+      wsum += w;
+    }
+  return glm::max(sum / wsum, vec3(0));
+}
+
 namespace {
 
 vec3 yCoCg(vec3 c) {
@@ -103,7 +126,8 @@ HostImage temporalRef(core::TemporalMethod m, const core::Params& p, const HostI
           vec2 q;
           float dt;
           if (reprojectRef(pc, dist, now, at, size, &q, &dt)) {
-            past += w[i] * bilinear(hist, q);
+            past += w[i] * (p.historyFilter == core::HistoryFilter::CatmullRom ? catmullRom5(hist, q)
+                                                                               : bilinear(hist, q));
             wsum += w[i];
           }
         }

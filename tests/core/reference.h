@@ -18,6 +18,8 @@ bool reprojectRef(glm::vec2 pc, float dist, const RefView& from, const RefView& 
 
 glm::vec3 fetchClamped(const HostImage& img, int x, int y);
 glm::vec3 bilinear(const HostImage& img, glm::vec2 q);
+// Catmull-Rom at q without its four corner texels (renormalised), clamped at 0.
+glm::vec3 catmullRom5(const HostImage& img, glm::vec2 q);
 
 // One temporal step. `hist` is the previous history (same size as `cur`), `histValid` false on the
 // first frame. headSpeed in deg/s. Returns the new history (= the output when no stereo follows).
@@ -36,8 +38,7 @@ HostImage stereoRef(const core::Params& p, const HostImage& thisEye, const HostI
 // The general stereo blend: this eye's values `self`, its 3x3 statistics from `stats` (in YCoCg
 // when yCoCgStats), the other eye's image `other` sampled where this pixel lands in
 // otherSampleView, the depth check where it lands in otherDepthView. stereoRef is the case
-// self = stats, both other views the same; the fused stereo of the temporal pass takes this eye's
-// new history as self, its current input as stats and the other eye's last history as other.
+// self = stats, both other views the same.
 HostImage stereoBlendRef(const core::Params& p, const HostImage& self, const HostImage& stats,
                          bool yCoCgStats, const HostImage& other, const RefView& selfView,
                          const RefView& otherSampleView, const RefView& otherDepthView,

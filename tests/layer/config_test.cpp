@@ -94,11 +94,11 @@ TEST(Config, StartsDisabled) {
 
 TEST(Config, ImuAndDumpKeys) {
   std::vector<std::string> messages;
-  const Config c =
-      resolveConfig(parseConfigText("pose_source = IMU\nimu_device = 1209:5a17\ndump_frames = 5\n"
-                                    "dump_dir = /tmp/d\njitter = on\nsample_count = 2\nfused_stereo = 1\n",
-                                    &messages),
-                    "a", envOf({}), &messages);
+  const Config c = resolveConfig(
+      parseConfigText("pose_source = IMU\nimu_device = 1209:5a17\ndump_frames = 5\n"
+                      "dump_dir = /tmp/d\njitter = on\nsample_count = 2\nhistory_filter = Catmull-Rom\n",
+                      &messages),
+      "a", envOf({}), &messages);
   EXPECT_TRUE(messages.empty());
   EXPECT_EQ(c.poseSource, PoseSourceKind::Imu);
   EXPECT_EQ(c.imuDevice, "1209:5a17");
@@ -106,12 +106,12 @@ TEST(Config, ImuAndDumpKeys) {
   EXPECT_EQ(c.dumpDir, "/tmp/d");
   EXPECT_TRUE(c.jitter);
   EXPECT_EQ(c.params.sampleCount, 2u);
-  EXPECT_TRUE(c.params.fusedStereo);
+  EXPECT_EQ(c.params.historyFilter, steadyxr::core::HistoryFilter::CatmullRom);
   messages.clear();
   const Config bad =
-      resolveConfig(parseConfigText("fused_stereo = maybe\n", &messages), "a", envOf({}), &messages);
-  EXPECT_FALSE(bad.params.fusedStereo);
-  EXPECT_TRUE(mentions(messages, "fused_stereo", "maybe"));
+      resolveConfig(parseConfigText("history_filter = lanczos\n", &messages), "a", envOf({}), &messages);
+  EXPECT_EQ(bad.params.historyFilter, steadyxr::core::HistoryFilter::Bilinear);
+  EXPECT_TRUE(mentions(messages, "history_filter", "lanczos"));
 }
 
 TEST(Config, FileSearchOrder) {

@@ -29,9 +29,7 @@ namespace {
 
 struct Options {
   std::vector<VkExtent2D> sizes{{1024, 1024}, {1440, 1600}, {2064, 2208}};
-  // "<method>/fused": the stereo blend fused into the temporal pass (Params::fusedStereo).
-  std::vector<std::string> methods{"none",   "fxaa",   "taa",     "hmtaa",        "vtaa",
-                                   "hybrid", "stereo", "default", "default/fused"};
+  std::vector<std::string> methods{"none", "fxaa", "taa", "hmtaa", "vtaa", "hybrid", "stereo", "default"};
   int iterations = 20;
   int warmup = 3;
   std::string csv;
@@ -41,8 +39,7 @@ struct Options {
 void usage() {
   std::cout << "usage: steadyxr-bench [--sizes WxH[,WxH...]] [--methods m1,m2,...] [--iterations N]\n"
                "                      [--warmup N] [--format srgb8|unorm8|rgba16f] [--csv FILE]\n"
-               "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to; '<method>/fused'\n"
-               "runs the stereo blend inside the temporal pass instead of as its own pass after it.\n";
+               "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to.\n";
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -246,10 +243,7 @@ int main(int argc, char** argv) {
     if (std::find(methods.begin(), methods.end(), "none") == methods.end())
       methods.insert(methods.begin(), "none");
     for (const std::string& m : methods) {
-      constexpr std::string_view kFused = "/fused";
-      const bool fused = m.size() > kFused.size() && m.ends_with(kFused);
-      auto params = applyMethodName(fused ? m.substr(0, m.size() - kFused.size()) : m);
-      if (params && fused) params->fusedStereo = true;
+      auto params = applyMethodName(m);
       if (!params) {
         std::cerr << "unknown method " << m << "\n";
         return 2;

@@ -36,12 +36,12 @@ enum class Pass : uint32_t { Copy, Temporal, Stereo, Fxaa, Count };
 enum OutFmt : uint32_t { kOut8 = 0, kOut16 = 1 };
 
 // The one descriptor set layout of every pass (common.glsl): 0-3 samplers (src0, src1, depth0,
-// depth1), 4-5 storage images (history out, output), 6 the uniforms, 7 sampler (other eye's history).
-constexpr uint32_t kBindings = 8;
+// depth1), 4-5 storage images (history out, output), 6 the uniforms.
+constexpr uint32_t kBindings = 7;
 constexpr VkDescriptorType descriptorType(uint32_t binding) {
-  return binding < 4 || binding == 7 ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
-         : binding < 6               ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
-                                     : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+  return binding < 4   ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+         : binding < 6 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+                       : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
 }
 
 // Mirrors PassParams in shaders/common.glsl (std140: every member is 16-byte aligned).
@@ -60,13 +60,9 @@ struct PassUniforms {
   glm::ivec4 flags;
   glm::ivec4 flags2;
   glm::ivec4 outOffset;
-  glm::mat4 stereoReproj[2];
-  glm::ivec4 src2Rect;
-  glm::vec4 src2InvExtent;
-  glm::vec4 stereo;
   glm::vec4 jitter;
 };
-static_assert(sizeof(PassUniforms) == 656);
+static_assert(sizeof(PassUniforms) == 480);
 
 bool finitePose(const Pose& p) {
   return std::isfinite(p.orientation.w) && std::isfinite(p.orientation.x) && std::isfinite(p.orientation.y) &&
@@ -347,7 +343,7 @@ bool Filter::Impl::init(std::string* error) {
       return fail(error, "vkCreateFence failed"), false;
     s.fence = Unique<VkFence>(device, fence);
     std::array<VkDescriptorPoolSize, 3> sizes{{
-        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 5 * kMaxDispatches},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4 * kMaxDispatches},
         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * kMaxDispatches},
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kMaxDispatches},
     }};
@@ -590,9 +586,6 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   const bool fxaa = method == TemporalMethod::Fxaa;
   const bool stereo = params.stereo && n == 2;
   const bool stage1 = temporal || fxaa || !stereo;  // `none` + stereo reads the inputs directly
-  // Fused: the temporal pass also does the stereo blend, from the other eye's last history.
-  const bool fused = stereo && temporal && params.fusedStereo;
-  const bool separateStereo = stereo && !fused;
 
   // Internal images follow the rect size; a size change drops the history.
   for (uint32_t e = 0; e < n; ++e) {
@@ -754,7 +747,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   VkPipeline bound = VK_NULL_HANDLE;
   const Binding dummySampled{dummy16.view.get(), VK_IMAGE_LAYOUT_GENERAL};
   auto dispatch = [&](Pass pass, OutFmt fmt, const PassUniforms& u, Binding src0, Binding src1, Binding d0,
-                      Binding d1, VkImageView histOut, VkImageView out, Binding other = {}) -> bool {
+                      Binding d1, VkImageView histOut, VkImageView out) -> bool {
     const bool writeOut = u.flags.w != 0;
     const SpecKey spec{pass == Pass::Temporal ? u.flags.x : 0,
                        pass == Pass::Temporal ? std::max(u.flags.y, 1) : 1,
@@ -764,8 +757,8 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
                        writeOut && u.flags2.y != 0 ? 1 : 0,
                        u.flags2.w,
                        (src0.clean ? 1 : 0) | (src1.clean ? 2 : 0),
-                       pass == Pass::Temporal && other.view ? 1 : 0,
-                       pass == Pass::Temporal && (u.jitter.x != 0.0f || u.jitter.y != 0.0f) ? 1 : 0};
+                       pass == Pass::Temporal && (u.jitter.x != 0.0f || u.jitter.y != 0.0f) ? 1 : 0,
+                       pass == Pass::Temporal && params.historyFilter == HistoryFilter::CatmullRom ? 1 : 0};
     const VkPipeline p = pipeline(pass, fmt, spec, error);
     if (!p || dispatchIndex >= kMaxDispatches) return false;
     const VkDeviceSize offset = uboStride * dispatchIndex++;
@@ -779,10 +772,6 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
     VkDescriptorSet set = VK_NULL_HANDLE;
     if (vkAllocateDescriptorSets(device, &dsai, &set) != VK_SUCCESS)
       return fail(error, "descriptor pool"), false;
-    auto sampled = [&](Binding b) -> VkDescriptorImageInfo {
-      return b.view ? VkDescriptorImageInfo{sampler.get(), b.view, b.layout}
-                    : VkDescriptorImageInfo{sampler.get(), dummySampled.view, dummySampled.layout};
-    };
     std::array<VkDescriptorImageInfo, kBindings> ii{{
         {sampler.get(), src0.view ? src0.view : dummySampled.view,
          src0.view ? src0.layout : dummySampled.layout},
@@ -796,7 +785,6 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
         {VK_NULL_HANDLE, out ? out : (fmt == kOut8 ? dummy8.view.get() : dummy16.view.get()),
          VK_IMAGE_LAYOUT_GENERAL},
         {},  // 6: the uniform buffer
-        sampled(other),
     }};
     const VkDescriptorBufferInfo bi{s.ubo.get(), offset, sizeof(PassUniforms)};
     std::array<VkWriteDescriptorSet, kBindings> w{};
@@ -865,9 +853,9 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   if (stage1) {
     for (uint32_t e = 0; e < n && ok; ++e) {
       PassUniforms u = baseUniforms(e);
-      const VkImageView out = separateStereo ? VK_NULL_HANDLE : targets[e].view;
-      const OutFmt fmt = separateStereo ? kOut8 : targets[e].fmt;
-      u.flags.w = separateStereo ? 0 : 1;
+      const VkImageView out = stereo ? VK_NULL_HANDLE : targets[e].view;
+      const OutFmt fmt = stereo ? kOut8 : targets[e].fmt;
+      u.flags.w = stereo ? 0 : 1;
       u.flags2.z = (temporal || stereo) ? 1 : 0;
       const VkImageView histOut = u.flags2.z ? eyes[e].history[cur].view.get() : VK_NULL_HANDLE;
       if (temporal) {
@@ -896,40 +884,14 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
         if (!std::isfinite(u.jitter.x) || !std::isfinite(u.jitter.y) || std::abs(u.jitter.x) > 1.0f ||
             std::abs(u.jitter.y) > 1.0f)
           u.jitter = glm::vec4(0.0f);  // sub-pixel only; anything else is a caller bug: ignore it
-        Binding other{}, otherDepth{};
-        if (fused) {
-          // The other eye's history from the last frame (eye o writes only history[cur] now).
-          const uint32_t o = 1 - e;
-          const EyeState& eyeO = eyes[o];
-          const ViewFrame& vo = frame.views[o];
-          u.stereo = {params.stereoBetaMin, 0.0f, 0.0f, 0.0f};
-          if (eyeO.valid && poseOk[e] && poseOk[o]) {
-            other = historyBinding(o, prev);
-            u.stereo.y = 1.0f;
-            u.src2Rect = historyRect(o);
-            u.src2InvExtent = historyInv(o);
-            u.stereoReproj[0] = reprojection(v.pose, v.fov, eye.size, eyeO.prevPose, eyeO.prevFov, eyeO.size);
-            u.stereoReproj[1] = reprojection(v.pose, v.fov, eye.size, vo.pose, vo.fov, eyeO.size);
-            if (hasDepth[o]) {
-              otherDepth = depths[o];
-              u.depth1 = depthParams(*vo.depth);
-              const auto& r = vo.depth->image.rect;
-              u.depthOffset.z = r.offset.x;
-              u.depthOffset.w = r.offset.y;
-              u.flags2.w |= 2;
-            }
-          } else {
-            other = Binding{dummy16.view.get(), VK_IMAGE_LAYOUT_GENERAL, true};  // same pipeline, no blend
-          }
-        }
-        ok = dispatch(Pass::Temporal, fmt, u, inputs[e], historyBinding(e, prev), depths[e], otherDepth,
-                      histOut, out, other);
+        ok =
+            dispatch(Pass::Temporal, fmt, u, inputs[e], historyBinding(e, prev), depths[e], {}, histOut, out);
       } else {
         ok = dispatch(fxaa ? Pass::Fxaa : Pass::Copy, fmt, u, inputs[e], {}, {}, {}, histOut, out);
       }
     }
   }
-  if (ok && separateStereo && stage1) {
+  if (ok && stereo && stage1) {
     VkMemoryBarrier m{};
     m.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
     m.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
@@ -938,7 +900,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
                          1, &m, 0, nullptr, 0, nullptr);
   }
   if (s.queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, s.queries.get(), 1);
-  if (ok && separateStereo) {
+  if (ok && stereo) {
     for (uint32_t e = 0; e < 2 && ok; ++e) {
       const uint32_t o = 1 - e;
       PassUniforms u = baseUniforms(e);

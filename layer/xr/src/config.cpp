@@ -69,9 +69,9 @@ constexpr FloatKey kFloatKeys[] = {
     {"reset_translation_m", &core::Params::resetTranslationM, 0.0f, 100.0f},
 };
 
-constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source", "imu_device",
-                                      "log_level", "log_file",     "dump_frames", "dump_dir",
-                                      "jitter",    "sample_count", "fused_stereo"};
+constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source",   "imu_device",
+                                      "log_level", "log_file",     "dump_frames",   "dump_dir",
+                                      "jitter",    "sample_count", "history_filter"};
 
 std::string formatFloat(float f) {
   std::ostringstream os;
@@ -143,11 +143,14 @@ void applyKey(Config& c, const std::string& key, const std::string& value, const
       c.jitter = *b;
     else
       bad(messages, key, value, origin, "0");
-  } else if (key == "fused_stereo") {
-    if (auto b = parseBool(value))
-      c.params.fusedStereo = *b;
+  } else if (key == "history_filter") {
+    const std::string l = lower(value);
+    if (l == "bilinear")
+      c.params.historyFilter = core::HistoryFilter::Bilinear;
+    else if (l == "catmull-rom" || l == "catmullrom")
+      c.params.historyFilter = core::HistoryFilter::CatmullRom;
     else
-      bad(messages, key, value, origin, defaults.params.fusedStereo ? "1" : "0");
+      bad(messages, key, value, origin, "bilinear");
   } else if (key == "sample_count") {
     if (auto n = parseCount(value); n && *n >= 1 && *n <= core::Params::kMaxSamples)
       c.params.sampleCount = *n;
