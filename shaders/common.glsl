@@ -20,6 +20,7 @@ layout(constant_id = 6) const int kDepthBits = 0;     // bit0: this eye's depth,
 layout(constant_id = 7) const int kCleanSrc = 0;      // bit0: src0, bit1: src1 is our own history (finite)
 layout(constant_id = 8) const bool kJitter = false;   // src0 was rendered on a jittered grid
 layout(constant_id = 9) const bool kCatmullRom = false;  // temporal: Catmull-Rom history sampling
+layout(constant_id = 10) const bool kBlocked = true;     // temporal/stereo: 4x2 pixels per invocation
 
 layout(set = 0, binding = 0) uniform sampler2D uSrc0;    // current colour / this eye
 layout(set = 0, binding = 1) uniform sampler2D uSrc1;    // history / other eye
@@ -65,12 +66,14 @@ vec3 fetchSrc0(ivec2 p) {
   return (kCleanSrc & 1) != 0 ? c : sanitize(c);
 }
 
-// Temporal and stereo run 4x2 pixels per invocation: their eight 3x3 neighbourhoods share one
-// 6x4 block of src0 fetches (24 instead of 72); on llvmpipe fetches dominate the cost.
+// On a CPU device temporal and stereo run 4x2 pixels per invocation (kBlocked): their eight 3x3
+// neighbourhoods share one 6x4 block of src0 fetches (24 instead of 72), and on llvmpipe fetches
+// dominate the cost. On a GPU one pixel per invocation: neighbouring invocations then touch
+// neighbouring texels, so a warp's loads and stores coalesce and the texture cache serves the 3x3.
 // (Per-pixel calls are written out: a loop leaves the block array in memory on llvmpipe.)
-const int kBlockW = 4;
-const int kBlockH = 2;
-vec3 gBlock[(kBlockW + 2) * (kBlockH + 2)];
+const int kBlockW = kBlocked ? 4 : 1;
+const int kBlockH = kBlocked ? 2 : 1;
+vec3 gBlock[6 * 4];  // (kBlockW + 2) * (kBlockH + 2) at most
 void loadBlock(ivec2 base) {
   for (int j = 0; j < kBlockH + 2; ++j)
     for (int i = 0; i < kBlockW + 2; ++i) gBlock[j * (kBlockW + 2) + i] = fetchSrc0(base + ivec2(i - 1, j - 1));

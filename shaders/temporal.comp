@@ -141,6 +141,7 @@ void main() {
   if (any(greaterThanEqual(base, P.src0Rect.zw))) return;
   if (kMode != kHmtaa) loadBlock(base);
   processPixel(base, ivec2(0, 0));
+  if (!kBlocked) return;
   processPixel(base + ivec2(1, 0), ivec2(1, 0));
   processPixel(base + ivec2(2, 0), ivec2(2, 0));
   processPixel(base + ivec2(3, 0), ivec2(3, 0));

@@ -65,7 +65,7 @@ GpuImage::GpuImage(core::VulkanContext& ctx, VkFormat format, uint32_t width, ui
   VkMemoryAllocateInfo mai{};
   mai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
   mai.allocationSize = req.size;
-  mai.memoryTypeIndex = ctx.findMemoryType(req.memoryTypeBits, 0);
+  mai.memoryTypeIndex = ctx.findMemoryType(req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
   check(vkAllocateMemory(ctx.device(), &mai, nullptr, &memory_), "vkAllocateMemory");
   vkBindImageMemory(ctx.device(), image_, memory_, 0);
 }

@@ -34,11 +34,13 @@ struct Options {
   int warmup = 3;
   std::string csv;
   VkFormat format = VK_FORMAT_R8G8B8A8_SRGB;  // of the app's input and output images
+  InvocationBlock block = InvocationBlock::Auto;
 };
 
 void usage() {
   std::cout << "usage: steadyxr-bench [--sizes WxH[,WxH...]] [--methods m1,m2,...] [--iterations N]\n"
                "                      [--warmup N] [--format srgb8|unorm8|rgba16f] [--csv FILE]\n"
+               "                      [--block auto|1x1|4x2]\n"
                "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to.\n";
 }
 
@@ -77,6 +79,16 @@ bool parse(int argc, char** argv, Options* o) {
         o->format = VK_FORMAT_R16G16B16A16_SFLOAT;
       else
         return false;
+    } else if (a == "--block") {
+      const std::string b = next();
+      if (b == "auto")
+        o->block = InvocationBlock::Auto;
+      else if (b == "1x1")
+        o->block = InvocationBlock::OnePixel;
+      else if (b == "4x2")
+        o->block = InvocationBlock::FourByTwo;
+      else
+        return false;
     } else if (a == "--csv") {
       o->csv = next();
     } else {
@@ -108,7 +120,7 @@ class Image {
     VkMemoryAllocateInfo mai{};
     mai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
     mai.allocationSize = req.size;
-    mai.memoryTypeIndex = ctx.findMemoryType(req.memoryTypeBits, 0);
+    mai.memoryTypeIndex = ctx.findMemoryType(req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     if (vkAllocateMemory(ctx.device(), &mai, nullptr, &memory_) != VK_SUCCESS)
       throw std::runtime_error("memory");
     vkBindImageMemory(ctx.device(), image_, memory_, 0);
@@ -248,6 +260,7 @@ int main(int argc, char** argv) {
         std::cerr << "unknown method " << m << "\n";
         return 2;
       }
+      params->invocationBlock = opt.block;
       auto filter = Filter::create(*ctx, *params, &err);
       if (!filter) {
         std::cerr << "steadyxr-bench: " << err << "\n";

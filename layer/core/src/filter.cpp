@@ -64,6 +64,18 @@ struct PassUniforms {
 };
 static_assert(sizeof(PassUniforms) == 480);
 
+bool blockPixels(const Params& params, const VulkanContext& ctx) {
+  switch (params.invocationBlock) {
+    case InvocationBlock::OnePixel:
+      return false;
+    case InvocationBlock::FourByTwo:
+      return true;
+    case InvocationBlock::Auto:
+      break;
+  }
+  return ctx.isCpuDevice();
+}
+
 bool finitePose(const Pose& p) {
   return std::isfinite(p.orientation.w) && std::isfinite(p.orientation.x) && std::isfinite(p.orientation.y) &&
          std::isfinite(p.orientation.z) && std::isfinite(p.position.x) && std::isfinite(p.position.y) &&
@@ -192,7 +204,7 @@ struct Filter::Impl {
   Unique<VkDescriptorSetLayout> setLayout;
   Unique<VkPipelineLayout> pipelineLayout;
   // Keyed by pass, output format and the specialisation constants (see common.glsl).
-  using SpecKey = std::array<int32_t, 10>;
+  using SpecKey = std::array<int32_t, 11>;
   std::map<std::tuple<Pass, OutFmt, SpecKey>, Unique<VkPipeline>> pipelines;
   std::array<Slot, kSlots> slots;
   std::array<EyeState, 2> eyes;
@@ -242,8 +254,7 @@ bool Filter::Impl::createImage(OwnedImage& img, VkExtent2D extent, VkFormat form
   VkMemoryAllocateInfo mai{};
   mai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
   mai.allocationSize = req.size;
-  mai.memoryTypeIndex = ctx.findMemoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  if (mai.memoryTypeIndex == UINT32_MAX) mai.memoryTypeIndex = ctx.findMemoryType(req.memoryTypeBits, 0);
+  mai.memoryTypeIndex = ctx.findMemoryType(req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
   VkDeviceMemory mem = VK_NULL_HANDLE;
   if (mai.memoryTypeIndex == UINT32_MAX || vkAllocateMemory(device, &mai, nullptr, &mem) != VK_SUCCESS) {
     fail(error, "out of device memory for an internal image");
@@ -371,8 +382,11 @@ bool Filter::Impl::init(std::string* error) {
     VkMemoryAllocateInfo mai{};
     mai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
     mai.allocationSize = req.size;
+    // Device-local when the GPU offers host-visible video memory (resizable BAR): every
+    // workgroup reads these, and reads over PCIe are slow.
     mai.memoryTypeIndex = ctx.findMemoryType(
-        req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+        req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+        VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     VkDeviceMemory mem = VK_NULL_HANDLE;
     if (mai.memoryTypeIndex == UINT32_MAX || vkAllocateMemory(device, &mai, nullptr, &mem) != VK_SUCCESS)
       return fail(error, "no host-visible memory for uniforms"), false;
@@ -749,6 +763,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   auto dispatch = [&](Pass pass, OutFmt fmt, const PassUniforms& u, Binding src0, Binding src1, Binding d0,
                       Binding d1, VkImageView histOut, VkImageView out) -> bool {
     const bool writeOut = u.flags.w != 0;
+    const bool blocked = (pass == Pass::Temporal || pass == Pass::Stereo) && blockPixels(params, ctx);
     const SpecKey spec{pass == Pass::Temporal ? u.flags.x : 0,
                        pass == Pass::Temporal ? std::max(u.flags.y, 1) : 1,
                        writeOut ? 1 : 0,
@@ -758,7 +773,8 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
                        u.flags2.w,
                        (src0.clean ? 1 : 0) | (src1.clean ? 2 : 0),
                        pass == Pass::Temporal && (u.jitter.x != 0.0f || u.jitter.y != 0.0f) ? 1 : 0,
-                       pass == Pass::Temporal && params.historyFilter == HistoryFilter::CatmullRom ? 1 : 0};
+                       pass == Pass::Temporal && params.historyFilter == HistoryFilter::CatmullRom ? 1 : 0,
+                       blocked ? 1 : 0};
     const VkPipeline p = pipeline(pass, fmt, spec, error);
     if (!p || dispatchIndex >= kMaxDispatches) return false;
     const VkDeviceSize offset = uboStride * dispatchIndex++;
@@ -805,8 +821,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
     bound = p;
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout.get(), 0, 1, &set, 0,
                             nullptr);
-    // temporal and stereo invocations each handle a 4x2 block of pixels (kBlockW x kBlockH)
-    const bool blocked = pass == Pass::Temporal || pass == Pass::Stereo;
+    // blocked: temporal and stereo invocations each handle 4x2 pixels (kBlockW x kBlockH)
     const uint32_t gx = blocked ? 4 * kGroupX : kGroupX;
     const uint32_t gy = blocked ? 2 * kGroupY : kGroupY;
     vkCmdDispatch(cmd, (static_cast<uint32_t>(u.src0Rect.z) + gx - 1) / gx,

@@ -246,6 +246,16 @@ uint32_t VulkanContext::findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags 
   return UINT32_MAX;
 }
 
+uint32_t VulkanContext::findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required,
+                                       VkMemoryPropertyFlags preferred) const {
+  const uint32_t best = findMemoryType(typeBits, required | preferred);
+  return best != UINT32_MAX ? best : findMemoryType(typeBits, required);
+}
+
+bool VulkanContext::isCpuDevice() const {
+  return impl_->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+}
+
 uint32_t VulkanContext::validationMessageCount() const {
   std::lock_guard lock(impl_->messagesMutex);
   return static_cast<uint32_t>(impl_->messages.size());

@@ -28,6 +28,8 @@ enum class HistoryFilter : uint8_t {
   CatmullRom,  // five bilinear taps (Catmull-Rom without its corner taps): stays sharp
 };
 
+enum class InvocationBlock : uint8_t { Auto, OnePixel, FourByTwo };
+
 struct Params {
   TemporalMethod temporal = kDefaultTemporalMethod;
   bool stereo = true;  // stereo blending after the temporal pass (display only)
@@ -58,6 +60,10 @@ struct Params {
   float stereoBetaMin = 0.9f;
 
   HistoryFilter historyFilter = HistoryFilter::Bilinear;
+
+  // Pixels per shader invocation in the temporal and stereo passes: Auto picks 4x2 on a CPU
+  // device (lavapipe; shared neighbourhood fetches) and 1x1 on a GPU (coalesced accesses).
+  InvocationBlock invocationBlock = InvocationBlock::Auto;
 
   // history reset
   float resetAngleDeg = 30.0f;  // a pose jump larger than this between frames resets history

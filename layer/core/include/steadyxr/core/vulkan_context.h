@@ -45,6 +45,11 @@ class VulkanContext {
   bool owned() const;
   const VkPhysicalDeviceProperties& properties() const;
   uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required) const;  // UINT32_MAX if none
+  // A type with required | preferred if there is one, else one with required (UINT32_MAX if none).
+  // On a discrete GPU the first type with no flags lives in system memory, behind PCIe.
+  uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required,
+                          VkMemoryPropertyFlags preferred) const;
+  bool isCpuDevice() const;  // lavapipe/llvmpipe: shaders run on the host's cores
 
   // Validation messages seen so far (owned contexts with enableValidation only).
   uint32_t validationMessageCount() const;
