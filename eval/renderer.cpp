@@ -87,9 +87,9 @@ struct SceneRenderer::Impl {
 
   Impl(core::VulkanContext& c, int w, int h) : ctx(c), dev(c.device()), width(w), height(h) {}
 
-  bool allocate(VkMemoryRequirements req, VkMemoryPropertyFlags flags, UniqueMemory* out,
-                std::string* error) {
-    const uint32_t type = ctx.findMemoryType(req.memoryTypeBits, flags);
+  bool allocate(VkMemoryRequirements req, VkMemoryPropertyFlags flags, UniqueMemory* out, std::string* error,
+                VkMemoryPropertyFlags preferred = 0) {
+    const uint32_t type = ctx.findMemoryType(req.memoryTypeBits, flags, preferred);
     if (type == UINT32_MAX) {
       *error = "no suitable memory type";
       return false;
@@ -506,8 +506,9 @@ struct SceneRenderer::Impl {
     staging = UniqueBuffer(dev, buf);
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(dev, buf, &req);
+    // Read by the CPU every frame: cached host memory where offered (uncached reads crawl).
     if (!allocate(req, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                  &stagingMemory, error)) {
+                  &stagingMemory, error, VK_MEMORY_PROPERTY_HOST_CACHED_BIT)) {
       return false;
     }
     vkBindBufferMemory(dev, buf, stagingMemory.get(), 0);

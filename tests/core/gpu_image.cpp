@@ -135,7 +135,8 @@ struct Staging {
     mai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
     mai.allocationSize = req.size;
     mai.memoryTypeIndex = ctx.findMemoryType(
-        req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+        req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+        VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
     check(vkAllocateMemory(device, &mai, nullptr, &memory), "vkAllocateMemory");
     vkBindBufferMemory(device, buffer, memory, 0);
     vkMapMemory(device, memory, 0, VK_WHOLE_SIZE, 0, &data);

@@ -62,8 +62,10 @@ bool ImageDumper::writeImage(core::VulkanContext& vk, const core::ImageRef& ref,
   const core::Unique<VkBuffer> buffer(dev, rawBuffer);
   VkMemoryRequirements req{};
   vkGetBufferMemoryRequirements(dev, buffer.get(), &req);
+  // Read back by the CPU: cached host memory where offered (uncached reads crawl).
   const uint32_t type = vk.findMemoryType(
-      req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+      req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+      VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
   if (type == UINT32_MAX) return false;
   auto mai = makeVk<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
   mai.allocationSize = req.size;
