@@ -30,7 +30,8 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
   --trace FILE[,FILE]  head-motion trace CSV(s) (t_s,qw,qx,qy,qz[,...] or t_s,wx,wy,wz); repeatable
   --images LIST        pictures for the image viewer: PNG paths or python3-skimage names
                        (default astronaut,camera,coffee,brick,grass,text,page; the default
-                       suite uses the first three under fixation)
+                       suite uses the first two under fixation, every given one otherwise)
+  --pictures-dir DIR   where built-in picture names are found (default python3-skimage's data)
   --methods LIST       none,fxaa,msaa2,msaa4,taa,hmtaa,vtaa,hybrid, each also <m>+stereo,
                        stereo, default; sweeps as <m>@key=value[@key=value] with keys
                        hmax,wmin,wlb,amin,alpha,gamma,beta,d,catmull (default: all + sweeps)
@@ -78,6 +79,8 @@ int main(int argc, char** argv) {
         o.motions = splitList(next());
       } else if (a == "--trace" || a == "--traces") {
         for (const auto& t : splitList(next())) o.traces.push_back(t);
+      } else if (a == "--pictures-dir") {
+        o.picturesDir = next();
       } else if (a == "--images" || a == "--image") {
         o.images = splitList(next());
       } else if (a == "--methods") {

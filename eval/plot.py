@@ -8,6 +8,7 @@ Writes OUT_DIR/charts/:
   warp_errors.png           seed 004 error pixels against extrapolation time and head/object speed
 """
 import csv
+import json
 import math
 import os
 import sys
@@ -38,6 +39,15 @@ def num(v):
         return None
 
 
+def device_name(out):
+    """The Vulkan device the costs were measured on (results.json's config), for the axis label."""
+    try:
+        with open(os.path.join(out, "results.json")) as f:
+            return json.load(f)["config"]["device"]
+    except (OSError, ValueError, KeyError):
+        return "unknown device"
+
+
 def pareto(points):
     """Non-dominated points (lower cost and lower error are better), sorted by cost."""
     front, best = [], float("inf")
@@ -48,7 +58,7 @@ def pareto(points):
     return front
 
 
-def plot_pareto(rows, charts):
+def plot_pareto(rows, charts, device):
     for scenario in sorted({r["scenario"] for r in rows}):
         sub = [r for r in rows if r["scenario"] == scenario]
         fig, axes = plt.subplots(1, 2, figsize=(13, 5))
@@ -67,7 +77,7 @@ def plot_pareto(rows, charts):
                 ax.legend(fontsize=8)
             if pts and min(p[0] for p in pts) > 0:
                 ax.set_xscale("log")
-            ax.set_xlabel("cost: filter GPU ms + extra render ms (both eyes, lavapipe)")
+            ax.set_xlabel(f"cost: filter ms + extra render ms (both eyes, {device})")
             ax.set_ylabel(label)
             ax.grid(alpha=0.3)
         fig.suptitle(f"{scenario}: accuracy against cost")
@@ -149,7 +159,7 @@ def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "out"
     charts = os.path.join(out, "charts")
     os.makedirs(charts, exist_ok=True)
-    plot_pareto(read_csv(os.path.join(out, "results.csv")), charts)
+    plot_pareto(read_csv(os.path.join(out, "results.csv")), charts, device_name(out))
     plot_timeseries(read_csv(os.path.join(out, "timeseries.csv")), charts)
     plot_warp(read_csv(os.path.join(out, "warp_errors.csv")), charts)
     print(f"charts written to {charts}")

@@ -12,8 +12,6 @@ namespace steadyxr::eval {
 
 namespace {
 
-constexpr const char* kSkimageData = "/usr/lib/python3/dist-packages/skimage/data/";
-
 glm::mat4 quadModel(glm::vec3 centre, glm::vec2 size, float rollRad = 0.0f) {
   glm::mat4 m = glm::translate(glm::mat4(1.0f), centre);
   m = glm::rotate(m, rollRad, glm::vec3(0.0f, 0.0f, 1.0f));
@@ -52,11 +50,12 @@ std::string textureKey(const std::string& nameOrPath) {
   return std::filesystem::path(nameOrPath).stem().string();
 }
 
-Rgba8 loadTextureOrFallback(const std::string& nameOrPath, std::string* warning) {
+Rgba8 loadTextureOrFallback(const std::string& nameOrPath, const std::string& picturesDir,
+                            std::string* warning) {
   Rgba8 img;
   std::string err;
   if (std::filesystem::exists(nameOrPath) && loadPng(nameOrPath, &img, &err)) return img;
-  const std::string fromData = std::string(kSkimageData) + nameOrPath + ".png";
+  const std::string fromData = picturesDir + "/" + nameOrPath + ".png";
   if (std::filesystem::exists(fromData) && loadPng(fromData, &img, &err)) return img;
   if (warning) *warning = "texture '" + nameOrPath + "' not found (" + err + "); using a checkerboard";
   img.width = img.height = 256;

@@ -24,7 +24,9 @@ struct TextureSet {
 
 // Loads `nameOrPath`: an existing file path, or a name in python3-skimage's data folder;
 // falls back to a procedural checkerboard (with a note in *warning) so runs never fail on it.
-Rgba8 loadTextureOrFallback(const std::string& nameOrPath, std::string* warning);
+Rgba8 loadTextureOrFallback(const std::string& nameOrPath, const std::string& picturesDir,
+                            std::string* warning);
+inline constexpr const char* kDefaultPicturesDir = "/usr/lib/python3/dist-packages/skimage/data";
 std::string textureKey(const std::string& nameOrPath);  // file stem
 
 struct Scene {

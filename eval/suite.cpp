@@ -487,12 +487,14 @@ int runSuite(const Options& o) {
     white.pixels = {255, 255, 255, 255};
     textures.images.push_back(white);
     textures.names.push_back("white");
-    std::vector<std::string> wanted = {"brick", "grass", "text", "coffee", "camera"};
+    // The scenarios' pictures first: a path the user gave wins over a built-in name with its stem.
+    std::vector<std::string> wanted;
     for (const Scenario& s : scenarios) wanted.push_back(s.picture);
+    for (const char* name : {"brick", "grass", "text", "coffee", "camera"}) wanted.push_back(name);
     for (const std::string& name : wanted) {
       if (textures.find(textureKey(name)) != 0) continue;
       std::string warning;
-      textures.images.push_back(loadTextureOrFallback(name, &warning));
+      textures.images.push_back(loadTextureOrFallback(name, o.picturesDir, &warning));
       textures.names.push_back(textureKey(name));
       if (!warning.empty()) std::cerr << "steadyxr-eval: " << warning << "\n";
     }

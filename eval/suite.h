@@ -2,6 +2,8 @@
 // render at the frame's head pose (both eyes) -> filter core -> display stage -> metrics.
 #pragma once
 
+#include "scene.h"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -19,6 +21,7 @@ struct Options {
   int frames = 40;
   uint64_t seed = 1;
   std::string outDir = "out";
+  std::string picturesDir = kDefaultPicturesDir;  // where built-in picture names are looked up
   double appHz = 30.0;
   double displayHz = 90.0;
   double startSec = 0.0;
