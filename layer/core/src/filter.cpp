@@ -31,6 +31,7 @@ constexpr uint32_t kSlots = 3;
 constexpr uint32_t kMaxDispatches = 8;
 constexpr uint32_t kQueries = 4;
 constexpr uint32_t kGroupX = 16, kGroupY = 8;  // matches local_size in common.glsl
+constexpr int kModeTaa = 0, kModeHmtaa = 1, kModeVtaa = 2, kModeHybrid = 3;  // kMode in temporal.comp
 
 enum class Pass : uint32_t { Copy, Temporal, Stereo, Fxaa, Count };
 enum OutFmt : uint32_t { kOut8 = 0, kOut16 = 1 };
@@ -64,7 +65,9 @@ struct PassUniforms {
 };
 static_assert(sizeof(PassUniforms) == 480);
 
-bool blockPixels(const Params& params, const VulkanContext& ctx) {
+// neighbourhood: the pass reads a 3x3 of the current frame (all but hmtaa). Blocks only pay where
+// neighbourhoods share fetches, and only on a CPU device (measured: steadyxr-bench --block).
+bool blockPixels(const Params& params, const VulkanContext& ctx, bool neighbourhood) {
   switch (params.invocationBlock) {
     case InvocationBlock::OnePixel:
       return false;
@@ -73,7 +76,7 @@ bool blockPixels(const Params& params, const VulkanContext& ctx) {
     case InvocationBlock::Auto:
       break;
   }
-  return ctx.isCpuDevice();
+  return neighbourhood && ctx.isCpuDevice();
 }
 
 bool finitePose(const Pose& p) {
@@ -763,7 +766,9 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   auto dispatch = [&](Pass pass, OutFmt fmt, const PassUniforms& u, Binding src0, Binding src1, Binding d0,
                       Binding d1, VkImageView histOut, VkImageView out) -> bool {
     const bool writeOut = u.flags.w != 0;
-    const bool blocked = (pass == Pass::Temporal || pass == Pass::Stereo) && blockPixels(params, ctx);
+    const bool neighbourhood = pass == Pass::Stereo || (pass == Pass::Temporal && u.flags.x != kModeHmtaa);
+    const bool blocked =
+        (pass == Pass::Temporal || pass == Pass::Stereo) && blockPixels(params, ctx, neighbourhood);
     const SpecKey spec{pass == Pass::Temporal ? u.flags.x : 0,
                        pass == Pass::Temporal ? std::max(u.flags.y, 1) : 1,
                        writeOut ? 1 : 0,
@@ -889,10 +894,10 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
           u.reproj[i] = reprojection(v.pose, v.fov, eye.size, at, eye.prevFov, eye.size);
           u.sampleW[static_cast<int>(i)] = w[i];
         }
-        const int mode = method == TemporalMethod::Taa     ? 0
-                         : method == TemporalMethod::Hmtaa ? 1
-                         : method == TemporalMethod::Vtaa  ? 2
-                                                           : 3;
+        const int mode = method == TemporalMethod::Taa     ? kModeTaa
+                         : method == TemporalMethod::Hmtaa ? kModeHmtaa
+                         : method == TemporalMethod::Vtaa  ? kModeVtaa
+                                                           : kModeHybrid;
         u.flags.x = mode;
         u.flags.y = static_cast<int>(count);
         u.jitter = {v.jitterPx.x, v.jitterPx.y, 0.0f, 0.0f};

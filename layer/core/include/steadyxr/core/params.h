@@ -62,7 +62,8 @@ struct Params {
   HistoryFilter historyFilter = HistoryFilter::Bilinear;
 
   // Pixels per shader invocation in the temporal and stereo passes: Auto picks 4x2 on a CPU
-  // device (lavapipe; shared neighbourhood fetches) and 1x1 on a GPU (coalesced accesses).
+  // device (lavapipe; shared 3x3 neighbourhood fetches; not hmtaa, which reads no 3x3) and 1x1
+  // on a GPU (coalesced accesses).
   InvocationBlock invocationBlock = InvocationBlock::Auto;
 
   // history reset
