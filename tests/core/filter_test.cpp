@@ -2,11 +2,13 @@
 // CPU reference, and the properties the issue asks for. Zero validation messages per test.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <glm/gtc/packing.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <random>
+#include <thread>
 
 #include "gpu_image.h"
 #include "reference.h"
@@ -48,7 +50,9 @@ class Rig {
           std::make_unique<GpuImage>(*gCtx, VK_FORMAT_D32_SFLOAT, w, h, 1, VK_IMAGE_USAGE_SAMPLED_BIT);
     }
   }
-  std::array<HostImage, 2> run(Filter& f, const Frame& fr, uint32_t viewCount = 2) {
+  // submitted: where to put submit()'s result; without it the submit must succeed.
+  std::array<HostImage, 2> run(Filter& f, const Frame& fr, uint32_t viewCount = 2,
+                               bool* submitted = nullptr) {
     StereoFrame sf;
     StereoOutput so;
     sf.viewCount = viewCount;
@@ -72,7 +76,11 @@ class Rig {
       so.views[e].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
     }
     std::string err;
-    EXPECT_TRUE(f.submit(sf, so, &err)) << err;
+    const bool ok = f.submit(sf, so, &err);
+    if (submitted)
+      *submitted = ok;
+    else
+      EXPECT_TRUE(ok) << err;
     f.waitIdle();
     outLayout_ = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
     std::array<HostImage, 2> result;
@@ -462,6 +470,70 @@ TEST_F(CoreTest, OnePixelAndBlockInvocationsAgree) {
       const Diff d = compare(outs[0][size_t(e)], outs[1][size_t(e)]);
       EXPECT_LE(d.maxAbs, 1e-6f) << method << " eye " << e;  // same arithmetic, pixel by pixel
     }
+  }
+}
+
+// Params::jitteredInput: the un-jittering fetch at a jitter of 0 reads the texel itself, so the
+// layer can use that one pipeline from the first frame on.
+TEST_F(CoreTest, JitteredInputWithZeroJitterMatchesPlainFetch) {
+  const uint32_t W = 36, H = 28;
+  Params jittered;
+  jittered.jitteredInput = true;
+  auto plain = makeFilter("hybrid+stereo");
+  auto withJitterPath = makeFilter("hybrid+stereo", jittered);
+  ASSERT_TRUE(plain && withJitterPath);
+  Rig rigA(W, H), rigB(W, H);
+  for (int i = 0; i < 3; ++i) {
+    Frame fr;
+    fr.views = {eye(0.4f * float(i), 0.0f, {-0.032f, 0, 0}), eye(0.4f * float(i), 0.0f, {0.032f, 0, 0})};
+    fr.color = {pattern(W, H, 70u + uint32_t(i), 0.1f), pattern(W, H, 80u + uint32_t(i), 0.1f)};
+    fr.headSpeed = 5.0f;
+    const auto a = rigA.run(*plain, fr);
+    const auto b = rigB.run(*withJitterPath, fr);
+    for (int e = 0; e < 2; ++e) {
+      const Diff d = compare(a[size_t(e)], b[size_t(e)]);
+      // llvmpipe's bilinear path rounds differently from texelFetch: 1-2 half-float ulps, well
+      // below an 8-bit display step (3.9e-3).
+      EXPECT_LE(d.maxAbs, 2e-3f) << "frame " << i << " eye " << e;
+      EXPECT_LE(d.meanAbs, 2e-4f) << "frame " << i << " eye " << e;
+    }
+  }
+}
+
+// FilterOptions::compileInBackground: frames are refused (compiling() true, the caller passes them
+// through) until the pipelines are ready, and never stall for the compile; the first filtered
+// frame then matches a synchronously compiled filter's first frame.
+TEST_F(CoreTest, BackgroundCompileRefusesFramesUntilReady) {
+  const uint32_t W = 40, H = 32;
+  const Params p = *applyMethodName("default");
+  std::string err;
+  FilterOptions background;
+  background.compileInBackground = true;
+  auto f = Filter::create(*gCtx, p, &err, background);
+  ASSERT_TRUE(f) << err;
+  auto reference = Filter::create(*gCtx, p, &err);
+  ASSERT_TRUE(reference) << err;
+  Rig rig(W, H), referenceRig(W, H);
+  Frame fr;
+  fr.views = {eye(0.3f, 0.1f, {-0.032f, 0, 0}), eye(0.3f, 0.1f, {0.032f, 0, 0})};
+  fr.color = {pattern(W, H, 61, 0.05f), pattern(W, H, 62, 0.05f)};
+  fr.headSpeed = 3.0f;
+
+  bool submitted = true;
+  rig.run(*f, fr, 2, &submitted);
+  EXPECT_FALSE(submitted);
+  EXPECT_TRUE(f->compiling());
+  std::array<HostImage, 2> out;
+  for (int i = 0; i < 6000 && !submitted; ++i) {  // a minute at most
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    out = rig.run(*f, fr, 2, &submitted);
+  }
+  ASSERT_TRUE(submitted);
+  EXPECT_FALSE(f->compiling());
+  const auto want = referenceRig.run(*reference, fr);
+  for (int e = 0; e < 2; ++e) {
+    const Diff d = compare(out[size_t(e)], want[size_t(e)]);
+    EXPECT_LE(d.maxAbs, 1e-6f) << "eye " << e;
   }
 }
 

@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstring>
+#include <future>
 #include <map>
+#include <string>
+#include <system_error>
 #include <tuple>
 #include <vector>
 
@@ -189,6 +193,87 @@ struct EyeState {
 
 using ViewKey = std::tuple<VkImage, VkFormat, uint32_t, VkImageAspectFlags>;
 
+// Keyed by pass, output format and the specialisation constants (see common.glsl).
+using SpecKey = std::array<int32_t, 11>;
+
+struct CompiledPipeline {
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  std::string error;
+};
+
+// Creates one compute pipeline. Touches nothing but its arguments, so it may run on a worker
+// thread: vkCreateShaderModule and vkCreateComputePipelines need no external synchronisation.
+CompiledPipeline compilePipeline(VkDevice device, VkPipelineLayout layout, Pass pass, OutFmt fmt,
+                                 SpecKey spec) {
+  const uint32_t* code = nullptr;
+  size_t size = 0;
+  auto pick = [&](const auto& a, const auto& b) {
+    code = fmt == kOut8 ? a : b;
+    size = fmt == kOut8 ? sizeof(a) : sizeof(b);
+  };
+  switch (pass) {
+    case Pass::Copy:
+      pick(copy_rgba8_spv, copy_rgba16f_spv);
+      break;
+    case Pass::Temporal:
+      pick(temporal_rgba8_spv, temporal_rgba16f_spv);
+      break;
+    case Pass::Stereo:
+      pick(stereo_rgba8_spv, stereo_rgba16f_spv);
+      break;
+    case Pass::Fxaa:
+      pick(fxaa_rgba8_spv, fxaa_rgba16f_spv);
+      break;
+    default:
+      return {VK_NULL_HANDLE, "no shader for this pass"};
+  }
+  VkShaderModuleCreateInfo smci{};
+  smci.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
+  smci.codeSize = size;
+  smci.pCode = code;
+  VkShaderModule module = VK_NULL_HANDLE;
+  if (vkCreateShaderModule(device, &smci, nullptr, &module) != VK_SUCCESS)
+    return {VK_NULL_HANDLE, "vkCreateShaderModule failed"};
+  Unique<VkShaderModule> moduleOwner(device, module, vkDestroyShaderModule);
+  VkComputePipelineCreateInfo cpci{};
+  cpci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+  cpci.stage = {};
+  cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+  cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  cpci.stage.module = module;
+  cpci.stage.pName = "main";
+  std::array<VkSpecializationMapEntry, std::tuple_size_v<SpecKey>> entries{};
+  for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, i * 4u, 4u};  // int and VkBool32: 4 bytes
+  VkSpecializationInfo si{};
+  si.mapEntryCount = static_cast<uint32_t>(entries.size());
+  si.pMapEntries = entries.data();
+  si.dataSize = sizeof(SpecKey);
+  si.pData = spec.data();
+  cpci.stage.pSpecializationInfo = &si;
+  cpci.layout = layout;
+  VkPipeline p = VK_NULL_HANDLE;
+  if (vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &cpci, nullptr, &p) != VK_SUCCESS)
+    return {VK_NULL_HANDLE, "vkCreateComputePipelines failed"};
+  return {p, {}};
+}
+
+// One pipeline of the cache: made, being compiled on a worker thread, or failed.
+struct PipelineSlot {
+  Unique<VkPipeline> pipeline;
+  std::future<CompiledPipeline> pending;
+  std::string error;
+  VkDevice device = VK_NULL_HANDLE;
+
+  PipelineSlot() = default;
+  PipelineSlot(const PipelineSlot&) = delete;
+  PipelineSlot& operator=(const PipelineSlot&) = delete;
+  ~PipelineSlot() {
+    if (!pending.valid()) return;
+    const CompiledPipeline c = pending.get();  // joins the worker; its pipeline was never used
+    if (c.pipeline) vkDestroyPipeline(device, c.pipeline, nullptr);
+  }
+};
+
 }  // namespace
 
 struct Filter::Impl {
@@ -196,6 +281,8 @@ struct Filter::Impl {
   VkDevice device;
   Params params;
   Params pendingParams;
+  FilterOptions options;
+  bool compiling = false;  // the last submit stopped at a pipeline still being compiled
   bool paramsChanged = false;
   bool resetRequested = true;
   bool timestamps = false;
@@ -206,9 +293,7 @@ struct Filter::Impl {
   Unique<VkSampler> samplerNearest;  // depth (texelFetch only)
   Unique<VkDescriptorSetLayout> setLayout;
   Unique<VkPipelineLayout> pipelineLayout;
-  // Keyed by pass, output format and the specialisation constants (see common.glsl).
-  using SpecKey = std::array<int32_t, 11>;
-  std::map<std::tuple<Pass, OutFmt, SpecKey>, Unique<VkPipeline>> pipelines;
+  std::map<std::tuple<Pass, OutFmt, SpecKey>, PipelineSlot> pipelines;
   std::array<Slot, kSlots> slots;
   std::array<EyeState, 2> eyes;
   uint32_t historyIndex = 0;  // which history image is written this frame
@@ -414,63 +499,40 @@ bool Filter::Impl::init(std::string* error) {
 }
 
 VkPipeline Filter::Impl::pipeline(Pass pass, OutFmt fmt, const SpecKey& spec, std::string* error) {
-  auto& slot = pipelines[{pass, fmt, spec}];
-  if (slot) return slot.get();
-  const uint32_t* code = nullptr;
-  size_t size = 0;
-  auto pick = [&](const auto& a, const auto& b) {
-    code = fmt == kOut8 ? a : b;
-    size = fmt == kOut8 ? sizeof(a) : sizeof(b);
-  };
-  switch (pass) {
-    case Pass::Copy:
-      pick(copy_rgba8_spv, copy_rgba16f_spv);
-      break;
-    case Pass::Temporal:
-      pick(temporal_rgba8_spv, temporal_rgba16f_spv);
-      break;
-    case Pass::Stereo:
-      pick(stereo_rgba8_spv, stereo_rgba16f_spv);
-      break;
-    case Pass::Fxaa:
-      pick(fxaa_rgba8_spv, fxaa_rgba16f_spv);
-      break;
-    default:
-      return VK_NULL_HANDLE;
-  }
-  VkShaderModuleCreateInfo smci{};
-  smci.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
-  smci.codeSize = size;
-  smci.pCode = code;
-  VkShaderModule module = VK_NULL_HANDLE;
-  if (vkCreateShaderModule(device, &smci, nullptr, &module) != VK_SUCCESS) {
-    fail(error, "vkCreateShaderModule failed");
+  PipelineSlot& slot = pipelines[{pass, fmt, spec}];
+  if (slot.pipeline) return slot.pipeline.get();
+  if (!slot.error.empty()) {  // failed before: not retried every frame
+    fail(error, slot.error);
     return VK_NULL_HANDLE;
   }
-  Unique<VkShaderModule> moduleOwner(device, module, vkDestroyShaderModule);
-  VkComputePipelineCreateInfo cpci{};
-  cpci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
-  cpci.stage = {};
-  cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-  cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  cpci.stage.module = module;
-  cpci.stage.pName = "main";
-  std::array<VkSpecializationMapEntry, std::tuple_size_v<SpecKey>> entries{};
-  for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, i * 4u, 4u};  // int and VkBool32: 4 bytes
-  VkSpecializationInfo si{};
-  si.mapEntryCount = static_cast<uint32_t>(entries.size());
-  si.pMapEntries = entries.data();
-  si.dataSize = sizeof(SpecKey);
-  si.pData = spec.data();
-  cpci.stage.pSpecializationInfo = &si;
-  cpci.layout = pipelineLayout.get();
-  VkPipeline p = VK_NULL_HANDLE;
-  if (vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &cpci, nullptr, &p) != VK_SUCCESS) {
-    fail(error, "vkCreateComputePipelines failed");
+  slot.device = device;
+  if (!slot.pending.valid()) {
+    if (options.compileInBackground) {
+      try {
+        slot.pending =
+            std::async(std::launch::async, compilePipeline, device, pipelineLayout.get(), pass, fmt, spec);
+      } catch (const std::system_error&) {  // no thread to be had: compile here instead
+      }
+    }
+    if (!slot.pending.valid()) {
+      std::promise<CompiledPipeline> now;
+      now.set_value(compilePipeline(device, pipelineLayout.get(), pass, fmt, spec));
+      slot.pending = now.get_future();
+    }
+  }
+  if (slot.pending.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+    compiling = true;
+    fail(error, "the filter's pipelines are still compiling");
     return VK_NULL_HANDLE;
   }
-  slot = Unique<VkPipeline>(device, p);
-  return p;
+  CompiledPipeline c = slot.pending.get();
+  if (!c.pipeline) {
+    slot.error = c.error;
+    fail(error, slot.error);
+    return VK_NULL_HANDLE;
+  }
+  slot.pipeline = Unique<VkPipeline>(device, c.pipeline);
+  return c.pipeline;
 }
 
 VkImageView Filter::Impl::view(VkImage image, VkFormat format, uint32_t layer, VkImageAspectFlags aspect,
@@ -570,6 +632,7 @@ bool validDepth(const DepthRef& d) {
 
 bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, std::string* error,
                           VkSemaphore signal) {
+  compiling = false;
   if (paramsChanged) {
     if (pendingParams.temporal != params.temporal) resetRequested = true;
     params = pendingParams;
@@ -769,18 +832,20 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
     const bool neighbourhood = pass == Pass::Stereo || (pass == Pass::Temporal && u.flags.x != kModeHmtaa);
     const bool blocked =
         (pass == Pass::Temporal || pass == Pass::Stereo) && blockPixels(params, ctx, neighbourhood);
-    const SpecKey spec{pass == Pass::Temporal ? u.flags.x : 0,
-                       pass == Pass::Temporal ? std::max(u.flags.y, 1) : 1,
-                       writeOut ? 1 : 0,
-                       u.flags2.z != 0 ? 1 : 0,
-                       writeOut && u.flags2.x != 0 ? 1 : 0,
-                       writeOut && u.flags2.y != 0 ? 1 : 0,
-                       u.flags2.w,
-                       (src0.clean ? 1 : 0) | (src1.clean ? 2 : 0),
-                       pass == Pass::Temporal && (u.jitter.x != 0.0f || u.jitter.y != 0.0f) ? 1 : 0,
-                       pass == Pass::Temporal && params.historyFilter == HistoryFilter::CatmullRom ? 1 : 0,
-                       blocked ? 1 : 0};
+    const SpecKey spec{
+        pass == Pass::Temporal ? u.flags.x : 0,
+        pass == Pass::Temporal ? std::max(u.flags.y, 1) : 1,
+        writeOut ? 1 : 0,
+        u.flags2.z != 0 ? 1 : 0,
+        writeOut && u.flags2.x != 0 ? 1 : 0,
+        writeOut && u.flags2.y != 0 ? 1 : 0,
+        u.flags2.w,
+        (src0.clean ? 1 : 0) | (src1.clean ? 2 : 0),
+        pass == Pass::Temporal && (params.jitteredInput || u.jitter.x != 0.0f || u.jitter.y != 0.0f) ? 1 : 0,
+        pass == Pass::Temporal && params.historyFilter == HistoryFilter::CatmullRom ? 1 : 0,
+        blocked ? 1 : 0};
     const VkPipeline p = pipeline(pass, fmt, spec, error);
+    if (!p && compiling) return true;  // record nothing, but go on: every pipeline of the frame starts
     if (!p || dispatchIndex >= kMaxDispatches) return false;
     const VkDeviceSize offset = uboStride * dispatchIndex++;
     std::memcpy(static_cast<char*>(s.mapped) + offset, &u, sizeof(u));
@@ -994,6 +1059,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
                        VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, nullptr, 0, nullptr,
                        static_cast<uint32_t>(post.size()), post.data());
   if (s.queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, s.queries.get(), 3);
+  if (compiling) ok = false;  // no dispatch was recorded for the passes still compiling
   if (vkEndCommandBuffer(cmd) != VK_SUCCESS) {
     fail(error, "vkEndCommandBuffer failed");
     return false;  // nothing was submitted; the slot stays free
@@ -1034,7 +1100,8 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
 Filter::Filter(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Filter::~Filter() = default;
 
-std::unique_ptr<Filter> Filter::create(VulkanContext& context, const Params& params, std::string* error) {
+std::unique_ptr<Filter> Filter::create(VulkanContext& context, const Params& params, std::string* error,
+                                       const FilterOptions& options) {
   Params p;
   if (std::string msg = validate(params, &p); !msg.empty()) {
     if (error) *error = msg;
@@ -1043,8 +1110,13 @@ std::unique_ptr<Filter> Filter::create(VulkanContext& context, const Params& par
   auto impl = std::make_unique<Impl>(context);
   impl->params = p;
   impl->pendingParams = p;
+  impl->options = options;
   if (!impl->init(error)) return nullptr;
   return std::unique_ptr<Filter>(new Filter(std::move(impl)));
+}
+
+bool Filter::compiling() const {
+  return impl_->compiling;
 }
 
 bool Filter::submit(const StereoFrame& frame, const StereoOutput& output, std::string* error,

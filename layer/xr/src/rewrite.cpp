@@ -31,6 +31,8 @@ std::string_view toString(PassReason r) {
       return "openxr_error";
     case PassReason::FilterError:
       return "filter_error";
+    case PassReason::Compiling:
+      return "compiling";
     case PassReason::Count:
       break;
   }

@@ -54,6 +54,7 @@ enum class PassReason : uint8_t {
   OutputSwapchain,
   XrError,
   FilterError,
+  Compiling,  // the filter's pipelines are still compiling in the background (not a failure)
   Count
 };
 std::string_view toString(PassReason r);

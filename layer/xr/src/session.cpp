@@ -77,16 +77,20 @@ SwapchainFacts AppSwapchain::facts() const {
 
 std::string SessionStats::summary() const {
   std::ostringstream os;
+  // Frames that waited for the pipelines are counted apart: passing them through is the plan,
+  // not a failure.
+  const uint64_t warmingUp = passed[static_cast<size_t>(PassReason::Compiling)];
   uint64_t passedTotal = 0;
   for (uint64_t n : passed) passedTotal += n;
+  passedTotal -= warmingUp;
   os << "session summary: frames_filtered=" << framesFiltered << " left=" << viewsFiltered[0]
      << " right=" << viewsFiltered[1] << " frames_passed_through=" << passedTotal
-     << " frames_empty=" << framesEmpty;
+     << " frames_warming_up=" << warmingUp << " frames_empty=" << framesEmpty;
   if (passedTotal > 0) {
     os << " (";
     bool first = true;
     for (size_t r = 0; r < passed.size(); ++r) {
-      if (passed[r] == 0) continue;
+      if (passed[r] == 0 || r == static_cast<size_t>(PassReason::Compiling)) continue;
       os << (first ? "" : ", ") << toString(static_cast<PassReason>(r)) << "=" << passed[r];
       first = false;
     }
@@ -178,7 +182,11 @@ bool Session::initFilter() {
   if (const std::string msg = core::validate(sanitized, &sanitized); !msg.empty()) {
     log.log(LogLevel::Warn, "config: " + msg + "; using the defaults for the bad fields");
   }
-  filter_ = core::Filter::create(*vk_, sanitized, &error);
+  sanitized.jitteredInput = cfg.jitter && undoesJitter(sanitized.temporal);
+  // Pipelines compile on worker threads: the app's first frames pass through instead of stalling.
+  core::FilterOptions filterOptions;
+  filterOptions.compileInBackground = true;
+  filter_ = core::Filter::create(*vk_, sanitized, &error, filterOptions);
   if (!filter_) {
     log.log(LogLevel::Error, "cannot create the filter (" + error + "): passing frames through");
     vk_.reset();
@@ -321,6 +329,7 @@ void Session::countUnfiltered(const XrFrameEndInfo& info) {
 
 void Session::passed(PassReason reason, const std::string& detail) {
   ++stats_.passed[static_cast<size_t>(reason)];
+  if (reason == PassReason::Compiling) return;  // expected for the first frames: logged once at info
   instance_->log->once(LogLevel::Warn, "pass-" + std::string(toString(reason)),
                        "passing frames through (" + std::string(toString(reason)) + "): " + detail);
 }
@@ -526,8 +535,14 @@ std::optional<PassReason> Session::filterProjection(const XrCompositionLayerProj
     }
     std::string error;
     if (!filter_->submit(frame, output, &error)) {
-      log.once(LogLevel::Warn, "filter-submit", "filter: " + error);
-      failure = PassReason::FilterError;
+      if (filter_->compiling()) {
+        log.once(LogLevel::Info, "filter-compiling",
+                 "the filter's pipelines are compiling in the background; frames pass through until then");
+        failure = PassReason::Compiling;
+      } else {
+        log.once(LogLevel::Warn, "filter-submit", "filter: " + error);
+        failure = PassReason::FilterError;
+      }
     } else if (dumper_.wants()) {
       dumper_.dump(*vk_, frame, output, log);
     }

@@ -61,6 +61,11 @@ struct Params {
 
   HistoryFilter historyFilter = HistoryFilter::Bilinear;
 
+  // The caller jitters the render (ViewFrame::jitterPx): every frame, also one with a jitter of 0,
+  // goes through the un-jittering fetch (bilinear at c - jitter; at 0 it reads the texel exactly),
+  // so the pipeline does not change, and recompile, when the jitter starts.
+  bool jitteredInput = false;
+
   // Pixels per shader invocation in the temporal and stereo passes: Auto picks 4x2 on a CPU
   // device (lavapipe; shared 3x3 neighbourhood fetches; not hmtaa, which reads no 3x3) and 1x1
   // on a GPU (coalesced accesses).
