@@ -466,7 +466,6 @@ int runSuite(const Options& o) {
     return 1;
   }
   const std::string device = ctx->properties().deviceName;
-  const bool cpuDevice = ctx->properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
   std::vector<Variant> variants;
   for (const std::string& spec : o.methods.empty() ? defaultMethods(o.sweeps && !o.quick) : o.methods) {
     Variant v;
@@ -821,7 +820,7 @@ int runSuite(const Options& o) {
       // lavapipe's timestamps miss dispatches that no barrier waits for (measured: hybrid 0.1 ms
       // by timestamps, 3.5 ms from submit to idle, at 256x256), and its "GPU" is this CPU anyway:
       // there the cost is the wall time from submit to idle. Real GPUs: timestamps.
-      r.gpuMs = cpuDevice ? a.timedWallMs : a.timedGpuMs;
+      r.gpuMs = ctx->isCpuDevice() ? a.timedWallMs : a.timedGpuMs;
       r.gpuTemporalMs = safeDiv(a.gpuTemporal, a.gpuN);
       r.gpuStereoMs = safeDiv(a.gpuStereo, a.gpuN);
       r.gpuOtherMs = safeDiv(a.gpuOther, a.gpuN);
