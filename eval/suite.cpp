@@ -72,7 +72,7 @@ struct Accum {
   double mtcdSum = 0, mtcdN = 0, mtcdDispSum = 0, mtcdDispN = 0;
   double sqErrDisp = 0, sqDispN = 0, errPxDisp = 0, errPxDispN = 0;
   double stereoSum = 0, stereoN = 0;
-  double gpuTotal = 0, gpuTemporal = 0, gpuStereo = 0, gpuOther = 0, gpuN = 0;
+  double gpuTemporal = 0, gpuStereo = 0, gpuOther = 0, gpuN = 0;
   double timedWallMs = 0, timedGpuMs = 0;  // medians of the back-to-back timing frames
   double cpuUs = 0, cpuN = 0, renderMs = 0, renderN = 0;
   std::array<Image, 2> prev, prevDisplay;
@@ -660,7 +660,6 @@ int runSuite(const Options& o) {
           a.cpuN += 1;
         }
         if (auto tm = v.filter->lastTimings(); tm && warm) {
-          a.gpuTotal += tm->totalMs;
           a.gpuTemporal += tm->temporalMs;
           a.gpuStereo += tm->stereoMs;
           a.gpuOther += tm->otherMs;
