@@ -2,11 +2,15 @@
 // set layout (unused bindings get 1x1 dummies) so the host side has one layout and one pool.
 
 
+#extension GL_EXT_control_flow_attributes : require
+
 #ifndef OUT_FORMAT
 #define OUT_FORMAT rgba8
 #endif
 
+// Workgroup size: specialisation constants 11 and 12, chosen per device by the host (filter.cpp).
 layout(local_size_x = 16, local_size_y = 8) in;
+layout(local_size_x_id = 11, local_size_y_id = 12) in;
 
 // Per-pipeline switches as specialisation constants: llvmpipe runs both sides of every branch
 // under an execution mask, so a uniform switch still costs every path; constants fold away.
@@ -20,7 +24,7 @@ layout(constant_id = 6) const int kDepthBits = 0;     // bit0: this eye's depth,
 layout(constant_id = 7) const int kCleanSrc = 0;      // bit0: src0, bit1: src1 is our own history (finite)
 layout(constant_id = 8) const bool kJitter = false;   // src0 was rendered on a jittered grid
 layout(constant_id = 9) const bool kCatmullRom = false;  // temporal: Catmull-Rom history sampling
-layout(constant_id = 10) const bool kBlocked = true;     // temporal/stereo: 4x2 pixels per invocation
+layout(constant_id = 10) const bool kBlocked = true;     // temporal/stereo: 4x4 pixels per invocation
 
 layout(set = 0, binding = 0) uniform sampler2D uSrc0;    // current colour / this eye
 layout(set = 0, binding = 1) uniform sampler2D uSrc1;    // history / other eye
@@ -66,19 +70,43 @@ vec3 fetchSrc0(ivec2 p) {
   return (kCleanSrc & 1) != 0 ? c : sanitize(c);
 }
 
-// On a CPU device temporal and stereo run 4x2 pixels per invocation (kBlocked): their eight 3x3
-// neighbourhoods share one 6x4 block of src0 fetches (24 instead of 72), and on llvmpipe fetches
+// On a CPU device temporal and stereo run 4x4 pixels per invocation (kBlocked): their sixteen 3x3
+// neighbourhoods share one 6x6 block of src0 fetches (36 instead of 144), and on llvmpipe fetches
 // dominate the cost. On a GPU one pixel per invocation: neighbouring invocations then touch
 // neighbouring texels, so a warp's loads and stores coalesce and the texture cache serves the 3x3.
-// (Per-pixel calls are written out: a loop leaves the block array in memory on llvmpipe.)
+// Loops over the block carry [[unroll]] and per-pixel calls are written out: a loop that is not
+// unrolled leaves the block arrays in memory on llvmpipe (measured at 1024x1024: the default
+// pipeline at 4.9x the copy pass without [[unroll]], 3.5x with it).
 const int kBlockW = kBlocked ? 4 : 1;
-const int kBlockH = kBlocked ? 2 : 1;
-vec3 gBlock[6 * 4];  // (kBlockW + 2) * (kBlockH + 2) at most
-void loadBlock(ivec2 base) {
-  for (int j = 0; j < kBlockH + 2; ++j)
-    for (int i = 0; i < kBlockW + 2; ++i) gBlock[j * (kBlockW + 2) + i] = fetchSrc0(base + ivec2(i - 1, j - 1));
+const int kBlockH = kBlocked ? 4 : 1;
+const int kTileW = kBlockW + 2;
+vec3 gBlock[6 * 6];  // (kBlockW + 2) * (kBlockH + 2) at most
+// 3-row column sums per output row of the block, shared by the (up to) three 3x3 windows that
+// contain the column: of c, of c*c and of the cross products (rg, rb, gb). Summing columns once
+// and windows from them costs a third of summing nine taps per pixel.
+vec3 gCol1[6 * 4], gCol2[6 * 4], gColX[6 * 4];
+vec3 crossProducts(vec3 c) { return vec3(c.r * c.g, c.r * c.b, c.g * c.b); }
+void loadBlock(ivec2 base, bool withCross) {
+  [[unroll]] for (int j = 0; j < kBlockH + 2; ++j)
+    [[unroll]] for (int i = 0; i < kTileW; ++i)
+      gBlock[j * kTileW + i] = fetchSrc0(base + ivec2(i - 1, j - 1));
+  [[unroll]] for (int r = 0; r < kBlockH; ++r)
+    [[unroll]] for (int i = 0; i < kTileW; ++i) {
+      vec3 a = gBlock[r * kTileW + i], b = gBlock[(r + 1) * kTileW + i], c = gBlock[(r + 2) * kTileW + i];
+      gCol1[r * kTileW + i] = a + b + c;
+      gCol2[r * kTileW + i] = a * a + b * b + c * c;
+      if (withCross) gColX[r * kTileW + i] = crossProducts(a) + crossProducts(b) + crossProducts(c);
+    }
 }
-vec3 blockAt(ivec2 o, int x, int y) { return gBlock[(o.y + 1 + y) * (kBlockW + 2) + (o.x + 1 + x)]; }
+vec3 blockAt(ivec2 o, int x, int y) { return gBlock[(o.y + 1 + y) * kTileW + (o.x + 1 + x)]; }
+
+// Sums over the 3x3 window of block pixel o: s1 of c, s2 of c*c, sx of (rg, rb, gb).
+void windowSums(ivec2 o, bool withCross, out vec3 s1, out vec3 s2, out vec3 sx) {
+  int k = o.y * kTileW + o.x;
+  s1 = gCol1[k] + gCol1[k + 1] + gCol1[k + 2];
+  s2 = gCol2[k] + gCol2[k + 1] + gCol2[k + 2];
+  sx = withCross ? gColX[k] + gColX[k + 1] + gColX[k + 2] : vec3(0.0);
+}
 
 // Bilinear sample of src1 at continuous pixel coords q (pixel centres at +0.5) of its rect.
 vec3 sampleSrc1(vec2 q) {

@@ -7,27 +7,23 @@
 // Display only.
 #include "common.glsl"
 
+// No early return and no texture read under a condition (llvmpipe samples lane by lane under a
+// divergent execution mask): read at clamped coordinates, select at the end, skip only the store
+// of a partial block's pixels past the edge.
 void processPixel(ivec2 p, ivec2 o) {
   ivec2 size = P.src0Rect.zw;
-  if (any(greaterThanEqual(p, size))) return;
-  vec3 m1 = vec3(0.0), m2 = vec3(0.0);
+  const bool inRange = all(lessThan(p, size));
   vec3 y = blockAt(o, 0, 0);
-  for (int j = -1; j <= 1; ++j)
-    for (int i = -1; i <= 1; ++i) {
-      vec3 c = blockAt(o, i, j);
-      m1 += c;
-      m2 += c * c;
-    }
-  vec3 mn = m1 / 9.0;
-  vec3 var = max(m2 / 9.0 - mn * mn, vec3(0.0));
+  vec3 s1, s2, sx;
+  windowSums(o, false, s1, s2, sx);
+  vec3 mn = s1 * (1.0 / 9.0);
+  vec3 var = max(s2 * (1.0 / 9.0) - mn * mn, vec3(0.0));
 
   bool hasThis = (kDepthBits & 1) != 0;
   bool hasOther = (kDepthBits & 2) != 0;
   float invZ = P.w1.w;
-  if (hasThis) invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + p, 0).r, P.depth0);
+  if (hasThis) invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + min(p, size - 1), 0).r, P.depth0);
 
-  // No texture read under a condition (llvmpipe samples lane by lane there): read at clamped
-  // coordinates, select at the end.
   vec2 q;
   float izExpected;
   bool ok = reproject(P.reproj[0], vec2(p) + 0.5, invZ, q, izExpected);
@@ -42,21 +38,21 @@ void processPixel(ivec2 p, ivec2 o) {
   // The box always holds this eye's own pixel: identical eyes stay unchanged.
   vec3 t = abs(dx) / (max(P.w0.y * sqrt(var), abs(y - mn)) + 1e-6);
   float mx = max(t.x, max(t.y, t.z));
-  if (mx > 1.0) x = mn + dx / mx;
-  float s2 = (var.r + var.g + var.b) / 3.0;
+  x = mx > 1.0 ? mn + dx * (1.0 / mx) : x;
+  float sigma2 = (var.r + var.g + var.b) * (1.0 / 3.0);
   vec3 d = x - mn;
-  float e = dot(d, d) / 3.0 + s2;
-  float beta = e > 1e-12 ? 1.0 - s2 / e : 0.0;
+  float e = dot(d, d) * (1.0 / 3.0) + sigma2;
+  float beta = e > 1e-12 ? 1.0 - sigma2 / e : 0.0;
   beta = clamp(beta, P.w0.z, 1.0);
   vec3 result = ok ? mix(x, y, beta) : y;
   if (any(isnan(result)) || any(isinf(result))) result = y;
-  writeOutput(p, result);
+  if (inRange) writeOutput(p, result);
 }
 
 void main() {
   ivec2 base = ivec2(gl_GlobalInvocationID.xy) * ivec2(kBlockW, kBlockH);
   if (any(greaterThanEqual(base, P.src0Rect.zw))) return;
-  loadBlock(base);
+  loadBlock(base, false);
   processPixel(base, ivec2(0, 0));
   if (!kBlocked) return;
   processPixel(base + ivec2(1, 0), ivec2(1, 0));
@@ -66,4 +62,12 @@ void main() {
   processPixel(base + ivec2(1, 1), ivec2(1, 1));
   processPixel(base + ivec2(2, 1), ivec2(2, 1));
   processPixel(base + ivec2(3, 1), ivec2(3, 1));
+  processPixel(base + ivec2(0, 2), ivec2(0, 2));
+  processPixel(base + ivec2(1, 2), ivec2(1, 2));
+  processPixel(base + ivec2(2, 2), ivec2(2, 2));
+  processPixel(base + ivec2(3, 2), ivec2(3, 2));
+  processPixel(base + ivec2(0, 3), ivec2(0, 3));
+  processPixel(base + ivec2(1, 3), ivec2(1, 3));
+  processPixel(base + ivec2(2, 3), ivec2(2, 3));
+  processPixel(base + ivec2(3, 3), ivec2(3, 3));
 }

@@ -13,13 +13,19 @@ vec3 toYCoCg(vec3 c) {
   return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b, -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
 }
 vec3 fromYCoCg(vec3 y) { return vec3(y.x + y.y - y.z, y.x + y.z, y.x - y.y - y.z); }
+// Sum of toYCoCg(c)^2 from the sums of c*c (s2) and of (rg, rb, gb) (sx).
+vec3 yCoCgSquares(vec3 s2, vec3 sx) {
+  return vec3(0.0625 * s2.r + 0.25 * s2.g + 0.0625 * s2.b + 0.25 * sx.x + 0.125 * sx.y + 0.25 * sx.z,
+              0.25 * s2.r + 0.25 * s2.b - 0.5 * sx.y,
+              0.0625 * s2.r + 0.25 * s2.g + 0.0625 * s2.b - 0.25 * sx.x + 0.125 * sx.y - 0.25 * sx.z);
+}
 
 // Clips h (YCoCg) towards the box centre mn onto the box mn +- ext (taa's variance clipping).
 vec3 clipToBox(vec3 h, vec3 mn, vec3 ext) {
   vec3 d = h - mn;
   vec3 t = abs(d) / ext;
   float mx = max(t.x, max(t.y, t.z));
-  return mx > 1.0 ? mn + d / mx : h;
+  return mx > 1.0 ? mn + d * (1.0 / mx) : h;
 }
 
 // Texture reads are never put under a data-dependent condition: llvmpipe can run a sample inside
@@ -42,104 +48,107 @@ bool pastColour(vec2 pc, float invZ, out vec3 past) {
   if (kSampleCount > 1) addSample(P.reproj[1], P.sampleW[1], pc, invZ, past, wsum);
   if (kSampleCount > 2) addSample(P.reproj[2], P.sampleW[2], pc, invZ, past, wsum);
   if (kSampleCount > 3) addSample(P.reproj[3], P.sampleW[3], pc, invZ, past, wsum);
-  if (wsum <= 0.0) return false;
-  past /= wsum;  // renormalise over the samples that landed inside the previous image
-  return true;
+  past = wsum > 0.0 ? past * (1.0 / wsum) : vec3(0.0);  // renormalise over the samples inside the image
+  return wsum > 0.0;
 }
 
 // Seed 002 Eq. 4 with Eq. 10 (sigma^2 of the 3x3) and Eq. 11 (mean of (X - Y_i)^2), averaged
 // over RGB. Uses sum_i (X - Y_i)^2 / 9 = (X - mean)^2 + sigma^2 (population estimators).
 float varianceAlpha(vec3 x, vec3 mean, vec3 var) {
-  float s2 = max((var.r + var.g + var.b) / 3.0, 0.0);
+  float s2 = max((var.r + var.g + var.b) * (1.0 / 3.0), 0.0);
   vec3 d = x - mean;
-  float e = dot(d, d) / 3.0 + s2;
+  float e = dot(d, d) * (1.0 / 3.0) + s2;
   float a = e > 1e-12 ? 1.0 - s2 / e : 0.0;
   return clamp(a, P.w0.z, 1.0);
 }
 
+// No early return and no branch around a texture read: llvmpipe runs everything after a divergent
+// branch under an execution mask, and samples lane by lane there. The pixels of a partial block
+// past the edge compute on clamped coordinates and skip only their stores.
 void processPixel(ivec2 p, ivec2 o) {
   ivec2 size = P.src0Rect.zw;
-  if (any(greaterThanEqual(p, size))) return;
+  const bool inRange = all(lessThan(p, size));
   const int mode = kMode;
   const bool neighbourhood = mode != kHmtaa;
   vec2 pc = vec2(p) + 0.5;
   vec3 cur = neighbourhood ? blockAt(o, 0, 0) : fetchSrc0(p);
 
   float invZ = P.w1.w;
-  if ((kDepthBits & 1) != 0) invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + p, 0).r, P.depth0);
+  if ((kDepthBits & 1) != 0)
+    invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + min(p, size - 1), 0).r, P.depth0);
 
-  vec3 m1 = vec3(0.0), m2 = vec3(0.0);
-  vec3 mn = vec3(0.0), var = vec3(0.0);
-  vec3 ym1 = vec3(0.0), ym2 = vec3(0.0);  // hybrid: YCoCg moments for the history clip
-  vec3 fc = vec3(0.0);                    // hybrid: the current frame through the footprint filter
+  vec3 mn = vec3(0.0), var = vec3(0.0);  // taa: YCoCg; vtaa, hybrid: RGB
+  vec3 ymn = vec3(0.0), yvar = vec3(0.0);  // hybrid: YCoCg moments for the history clip
+  vec3 fc = vec3(0.0);                     // hybrid: the current frame through the footprint filter
   if (neighbourhood) {
-    for (int y = -1; y <= 1; ++y)
-      for (int x = -1; x <= 1; ++x) {
-        vec3 c = blockAt(o, x, y);
-        if (mode == kTaa) c = toYCoCg(c);
-        m1 += c;
-        m2 += c * c;
-        if (mode == kHybrid) {
-          vec3 yc = toYCoCg(c);
-          ym1 += yc;
-          ym2 += yc * yc;
-          fc += (x == 0 ? 0.875 : 0.0625) * (y == 0 ? 0.875 : 0.0625) * c;
-        }
-      }
-    mn = m1 / 9.0;
-    var = max(m2 / 9.0 - mn * mn, vec3(0.0));
+    const bool yCoCg = mode == kTaa || mode == kHybrid;
+    vec3 s1, s2, sx;
+    windowSums(o, yCoCg, s1, s2, sx);
+    mn = s1 * (1.0 / 9.0);
+    var = max(s2 * (1.0 / 9.0) - mn * mn, vec3(0.0));
+    if (yCoCg) {  // YCoCg is linear: its moments follow from the RGB sums and cross products
+      ymn = toYCoCg(mn);
+      yvar = max(yCoCgSquares(s2, sx) * (1.0 / 9.0) - ymn * ymn, vec3(0.0));
+    }
+    if (mode == kTaa) {
+      mn = ymn;
+      var = yvar;
+    }
+    if (mode == kHybrid) {
+      // [1/16, 7/8, 1/16]^2: centre, edge neighbours, corners (the rest of the 3x3 sum).
+      vec3 edges = blockAt(o, -1, 0) + blockAt(o, 1, 0) + blockAt(o, 0, -1) + blockAt(o, 0, 1);
+      fc = 0.765625 * cur + 0.0546875 * edges + 0.00390625 * (s1 - cur - edges);
+    }
   }
 
   vec3 result = cur;
-  if (P.flags.z != 0) {
+  const bool historyValid = P.flags.z != 0;
+  if (mode == kTaa) {
+    vec2 q;
+    float iz;
+    bool inside = reproject(P.reproj[0], pc, invZ, q, iz);
+    // Variance clipping: clip the history towards the mean onto the box mean +- gamma*sigma.
+    vec3 h = clipToBox(toYCoCg(sampleHistory(q)), mn, P.w0.y * sqrt(var) + 1e-6);
+    vec3 blended = max(mix(fromYCoCg(h), cur, P.w0.x), vec3(0.0));
+    result = historyValid && inside ? blended : cur;
+  } else {
     vec3 past;
-    if (mode == kTaa) {
-      vec2 q;
-      float iz;
-      bool inside = reproject(P.reproj[0], pc, invZ, q, iz);
-      // Variance clipping: clip the history towards the mean onto the box mean +- gamma*sigma.
-      vec3 h = toYCoCg(sampleHistory(q));
-      h = clipToBox(h, mn, P.w0.y * sqrt(var) + 1e-6);
-      if (inside) result = max(mix(fromYCoCg(h), cur, P.w0.x), vec3(0.0));
-    } else if (pastColour(pc, invZ, past)) {
-      float a;
-      if (mode == kVtaa) {
-        a = varianceAlpha(past, mn, var);
-      } else if (P.w0.w >= 1.0) {
-        a = 1.0;  // h > h_max: the current frame exactly
-      } else if (mode == kHmtaa) {
-        // Seed 003 Eq. 5 then Eq. 4 with the localised w'_min (shape S computed on the CPU).
-        vec3 dc = cur - past;
-        float cdiff = clamp(sqrt(dot(dc, dc) / 3.0), 0.0, 1.0);
-        float wmin = P.w1.x - (P.w1.x - P.w1.y) * cdiff;
-        a = P.w0.w * (1.0 - wmin) + wmin;
-      } else {
-        // Hybrid. (1) taa's variance clipping of the history to the YCoCg box mean +- gamma*sigma
-        // of the current 3x3 (gamma = taaClipGamma): stops ghosting of moving objects and
-        // disocclusions. (2) The variance weight of seed 002 Eq. 4 for the clipped history, never
-        // below A(h) of seed 003 Eq. 4 with w_min = alphaMin. (3) The current frame enters through
-        // a [1/16, 7/8, 1/16]^2 footprint filter: the target is the pixel-area average and a lone
-        // centre sample is sharper than that (measured: lower RMSE on thin/high-contrast detail).
-        vec3 ymn = ym1 / 9.0;
-        vec3 ysd = sqrt(max(ym2 / 9.0 - ymn * ymn, vec3(0.0)));
-        past = max(fromYCoCg(clipToBox(toYCoCg(past), ymn, P.w0.y * ysd + 1e-6)), vec3(0.0));
-        float ah = P.w0.w * (1.0 - P.w0.z) + P.w0.z;
-        a = max(varianceAlpha(past, mn, var), ah);
-        if (a < 1.0) cur = fc;
-      }
-      result = a >= 1.0 ? cur : mix(past, cur, a);
+    bool hasPast = pastColour(pc, invZ, past) && historyValid;
+    float a;
+    if (mode == kVtaa) {
+      a = varianceAlpha(past, mn, var);
+    } else if (mode == kHmtaa) {
+      // Seed 003 Eq. 5 then Eq. 4 with the localised w'_min (shape S computed on the CPU).
+      vec3 dc = cur - past;
+      float cdiff = clamp(sqrt(dot(dc, dc) * (1.0 / 3.0)), 0.0, 1.0);
+      float wmin = P.w1.x - (P.w1.x - P.w1.y) * cdiff;
+      a = P.w0.w >= 1.0 ? 1.0 : P.w0.w * (1.0 - wmin) + wmin;  // h > h_max: the current frame
+    } else {
+      // Hybrid. (1) taa's variance clipping of the history to the YCoCg box mean +- gamma*sigma
+      // of the current 3x3 (gamma = taaClipGamma): stops ghosting of moving objects and
+      // disocclusions. (2) The variance weight of seed 002 Eq. 4 for the clipped history, never
+      // below A(h) of seed 003 Eq. 4 with w_min = alphaMin. (3) The current frame enters through
+      // a [1/16, 7/8, 1/16]^2 footprint filter: the target is the pixel-area average and a lone
+      // centre sample is sharper than that (measured: lower RMSE on thin/high-contrast detail).
+      past = max(fromYCoCg(clipToBox(toYCoCg(past), ymn, P.w0.y * sqrt(yvar) + 1e-6)), vec3(0.0));
+      float ah = P.w0.w * (1.0 - P.w0.z) + P.w0.z;
+      a = P.w0.w >= 1.0 ? 1.0 : max(varianceAlpha(past, mn, var), ah);  // h > h_max: current frame
+      cur = a < 1.0 ? fc : cur;
     }
+    result = hasPast ? (a >= 1.0 ? cur : mix(past, cur, a)) : result;
   }
   if (any(isnan(result)) || any(isinf(result))) result = cur;
   result = clamp(result, vec3(0.0), vec3(65000.0));  // stays finite in half precision
-  if (kWriteHist) imageStore(uHistOut, p, vec4(result, 1.0));
-  if (kWriteOut) writeOutput(p, result);
+  if (inRange) {
+    if (kWriteHist) imageStore(uHistOut, p, vec4(result, 1.0));
+    if (kWriteOut) writeOutput(p, result);
+  }
 }
 
 void main() {
   ivec2 base = ivec2(gl_GlobalInvocationID.xy) * ivec2(kBlockW, kBlockH);
   if (any(greaterThanEqual(base, P.src0Rect.zw))) return;
-  if (kMode != kHmtaa) loadBlock(base);
+  if (kMode != kHmtaa) loadBlock(base, kMode == kTaa || kMode == kHybrid);
   processPixel(base, ivec2(0, 0));
   if (!kBlocked) return;
   processPixel(base + ivec2(1, 0), ivec2(1, 0));
@@ -149,4 +158,12 @@ void main() {
   processPixel(base + ivec2(1, 1), ivec2(1, 1));
   processPixel(base + ivec2(2, 1), ivec2(2, 1));
   processPixel(base + ivec2(3, 1), ivec2(3, 1));
+  processPixel(base + ivec2(0, 2), ivec2(0, 2));
+  processPixel(base + ivec2(1, 2), ivec2(1, 2));
+  processPixel(base + ivec2(2, 2), ivec2(2, 2));
+  processPixel(base + ivec2(3, 2), ivec2(3, 2));
+  processPixel(base + ivec2(0, 3), ivec2(0, 3));
+  processPixel(base + ivec2(1, 3), ivec2(1, 3));
+  processPixel(base + ivec2(2, 3), ivec2(2, 3));
+  processPixel(base + ivec2(3, 3), ivec2(3, 3));
 }

@@ -439,7 +439,7 @@ TEST_F(CoreTest, SeparateStereoPassAfterTemporalMatchesReference) {
   }
 }
 
-// Params::invocationBlock: a CPU device runs temporal and stereo 4x2 pixels per invocation, a GPU
+// Params::invocationBlock: a CPU device runs temporal and stereo 4x4 pixels per invocation, a GPU
 // one pixel. Both layouts must give the same images, on sizes that do not divide by the block and
 // on every temporal mode, with depth (stereo reads both eyes' depth).
 TEST_F(CoreTest, OnePixelAndBlockInvocationsAgree) {
@@ -448,7 +448,7 @@ TEST_F(CoreTest, OnePixelAndBlockInvocationsAgree) {
     std::array<std::array<HostImage, 2>, 2> outs;
     for (int b = 0; b < 2; ++b) {
       Params base;
-      base.invocationBlock = b == 0 ? InvocationBlock::OnePixel : InvocationBlock::FourByTwo;
+      base.invocationBlock = b == 0 ? InvocationBlock::OnePixel : InvocationBlock::FourByFour;
       auto f = makeFilter(method, base);
       ASSERT_TRUE(f);
       Rig rig(W, H);

@@ -40,7 +40,7 @@ struct Options {
 void usage() {
   std::cout << "usage: steadyxr-bench [--sizes WxH[,WxH...]] [--methods m1,m2,...] [--iterations N]\n"
                "                      [--warmup N] [--format srgb8|unorm8|rgba16f] [--csv FILE]\n"
-               "                      [--block auto|1x1|4x2]\n"
+               "                      [--block auto|1x1|4x4]\n"
                "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to.\n";
 }
 
@@ -85,8 +85,8 @@ bool parse(int argc, char** argv, Options* o) {
         o->block = InvocationBlock::Auto;
       else if (b == "1x1")
         o->block = InvocationBlock::OnePixel;
-      else if (b == "4x2")
-        o->block = InvocationBlock::FourByTwo;
+      else if (b == "4x4")
+        o->block = InvocationBlock::FourByFour;
       else
         return false;
     } else if (a == "--csv") {

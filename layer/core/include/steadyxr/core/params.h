@@ -28,7 +28,7 @@ enum class HistoryFilter : uint8_t {
   CatmullRom,  // five bilinear taps (Catmull-Rom without its corner taps): stays sharp
 };
 
-enum class InvocationBlock : uint8_t { Auto, OnePixel, FourByTwo };
+enum class InvocationBlock : uint8_t { Auto, OnePixel, FourByFour };
 
 struct Params {
   TemporalMethod temporal = kDefaultTemporalMethod;
@@ -66,7 +66,7 @@ struct Params {
   // so the pipeline does not change, and recompile, when the jitter starts.
   bool jitteredInput = false;
 
-  // Pixels per shader invocation in the temporal and stereo passes: Auto picks 4x2 on a CPU
+  // Pixels per shader invocation in the temporal and stereo passes: Auto picks 4x4 on a CPU
   // device (lavapipe; shared 3x3 neighbourhood fetches; not hmtaa, which reads no 3x3) and 1x1
   // on a GPU (coalesced accesses).
   InvocationBlock invocationBlock = InvocationBlock::Auto;
