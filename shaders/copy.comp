@@ -6,7 +6,7 @@
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(p, P.src0Rect.zw))) return;
-  vec3 c = sanitize(texelFetch(uSrc0, P.src0Rect.xy + p, 0).rgb);
+  vec3 c = fetchSrc0(p);  // sanitised unless the input is 8-bit (finite by construction)
   if (kWriteHist) imageStore(uHistOut, p, vec4(c, 1.0));
   if (kWriteOut) writeOutput(p, c);
 }
