@@ -440,37 +440,38 @@ TEST_F(CoreTest, SeparateStereoPassAfterTemporalMatchesReference) {
 }
 
 // Params::invocationBlock: a CPU device runs temporal and stereo 4x4 pixels per invocation, a GPU
-// one pixel. Both layouts must give the same images, on sizes that do not divide by the block and
-// on every temporal mode, with depth (stereo reads both eyes' depth).
+// one pixel. Both layouts must give the same images, on sizes that do not divide by the block (and
+// one smaller than a block) and on every temporal mode, with depth (stereo reads both eyes' depth).
 TEST_F(CoreTest, OnePixelAndBlockInvocationsAgree) {
-  const uint32_t W = 45, H = 37;
-  for (const char* method : {"taa+stereo", "hmtaa", "vtaa", "hybrid+stereo"}) {
-    std::array<std::array<HostImage, 2>, 2> outs;
-    for (int b = 0; b < 2; ++b) {
-      Params base;
-      base.invocationBlock = b == 0 ? InvocationBlock::OnePixel : InvocationBlock::FourByFour;
-      auto f = makeFilter(method, base);
-      ASSERT_TRUE(f);
-      Rig rig(W, H);
-      for (int i = 0; i < 3; ++i) {
-        Frame fr;
-        const float yaw = 0.6f * float(i);
-        fr.views = {eye(yaw, 0.2f * float(i), {-0.032f, 0, 0}), eye(yaw, 0.2f * float(i), {0.032f, 0, 0})};
-        fr.color = {pattern(W, H, 40u + 2u * uint32_t(i), 0.1f), pattern(W, H, 41u + 2u * uint32_t(i), 0.1f)};
-        for (int e = 0; e < 2; ++e) {
-          fr.depth[e] = HostImage(W, H);
-          for (uint32_t y = 0; y < H; ++y)
-            for (uint32_t x = 0; x < W; ++x) fr.depth[e].at(x, y) = glm::vec4(x < W / 2 ? 0.9f : 0.99f);
+  for (const auto& [W, H] : {std::pair<uint32_t, uint32_t>{45, 37}, {3, 2}})
+    for (const char* method : {"taa+stereo", "hmtaa", "vtaa", "hybrid+stereo"}) {
+      std::array<std::array<HostImage, 2>, 2> outs;
+      for (int b = 0; b < 2; ++b) {
+        Params base;
+        base.invocationBlock = b == 0 ? InvocationBlock::OnePixel : InvocationBlock::FourByFour;
+        auto f = makeFilter(method, base);
+        ASSERT_TRUE(f);
+        Rig rig(W, H);
+        for (int i = 0; i < 3; ++i) {
+          Frame fr;
+          const float yaw = 0.6f * float(i);
+          fr.views = {eye(yaw, 0.2f * float(i), {-0.032f, 0, 0}), eye(yaw, 0.2f * float(i), {0.032f, 0, 0})};
+          fr.color = {pattern(W, H, 40u + 2u * uint32_t(i), 0.1f),
+                      pattern(W, H, 41u + 2u * uint32_t(i), 0.1f)};
+          for (int e = 0; e < 2; ++e) {
+            fr.depth[e] = HostImage(W, H);
+            for (uint32_t y = 0; y < H; ++y)
+              for (uint32_t x = 0; x < W; ++x) fr.depth[e].at(x, y) = glm::vec4(x < W / 2 ? 0.9f : 0.99f);
+          }
+          fr.headSpeed = 6.0f;
+          outs[size_t(b)] = rig.run(*f, fr);
         }
-        fr.headSpeed = 6.0f;
-        outs[size_t(b)] = rig.run(*f, fr);
+      }
+      for (int e = 0; e < 2; ++e) {
+        const Diff d = compare(outs[0][size_t(e)], outs[1][size_t(e)]);
+        EXPECT_LE(d.maxAbs, 1e-6f) << method << " " << W << "x" << H << " eye " << e;  // same arithmetic
       }
     }
-    for (int e = 0; e < 2; ++e) {
-      const Diff d = compare(outs[0][size_t(e)], outs[1][size_t(e)]);
-      EXPECT_LE(d.maxAbs, 1e-6f) << method << " eye " << e;  // same arithmetic, pixel by pixel
-    }
-  }
 }
 
 // Params::jitteredInput: the un-jittering fetch at a jitter of 0 reads the texel itself, so the
