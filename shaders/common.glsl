@@ -108,6 +108,28 @@ void windowSums(ivec2 o, bool withCross, out vec3 s1, out vec3 s2, out vec3 sx) 
   sx = withCross ? gColX[k] + gColX[k + 1] + gColX[k + 2] : vec3(0.0);
 }
 
+// Runs the including pass's processPixel(p, o) on every pixel of the block at base: one pixel, or
+// the 4x4 block written out call by call (see above).
+#define PROCESS_BLOCK(base) \
+  processPixel(base, ivec2(0, 0)); \
+  if (kBlocked) { \
+    processPixel(base + ivec2(1, 0), ivec2(1, 0)); \
+    processPixel(base + ivec2(2, 0), ivec2(2, 0)); \
+    processPixel(base + ivec2(3, 0), ivec2(3, 0)); \
+    processPixel(base + ivec2(0, 1), ivec2(0, 1)); \
+    processPixel(base + ivec2(1, 1), ivec2(1, 1)); \
+    processPixel(base + ivec2(2, 1), ivec2(2, 1)); \
+    processPixel(base + ivec2(3, 1), ivec2(3, 1)); \
+    processPixel(base + ivec2(0, 2), ivec2(0, 2)); \
+    processPixel(base + ivec2(1, 2), ivec2(1, 2)); \
+    processPixel(base + ivec2(2, 2), ivec2(2, 2)); \
+    processPixel(base + ivec2(3, 2), ivec2(3, 2)); \
+    processPixel(base + ivec2(0, 3), ivec2(0, 3)); \
+    processPixel(base + ivec2(1, 3), ivec2(1, 3)); \
+    processPixel(base + ivec2(2, 3), ivec2(2, 3)); \
+    processPixel(base + ivec2(3, 3), ivec2(3, 3)); \
+  }
+
 // Bilinear sample of src1 at continuous pixel coords q (pixel centres at +0.5) of its rect.
 vec3 sampleSrc1(vec2 q) {
   q = clamp(q, vec2(0.5), vec2(P.src1Rect.zw) - 0.5);

@@ -149,21 +149,5 @@ void main() {
   ivec2 base = ivec2(gl_GlobalInvocationID.xy) * ivec2(kBlockW, kBlockH);
   if (any(greaterThanEqual(base, P.src0Rect.zw))) return;
   if (kMode != kHmtaa) loadBlock(base, kMode == kTaa || kMode == kHybrid);
-  processPixel(base, ivec2(0, 0));
-  if (!kBlocked) return;
-  processPixel(base + ivec2(1, 0), ivec2(1, 0));
-  processPixel(base + ivec2(2, 0), ivec2(2, 0));
-  processPixel(base + ivec2(3, 0), ivec2(3, 0));
-  processPixel(base + ivec2(0, 1), ivec2(0, 1));
-  processPixel(base + ivec2(1, 1), ivec2(1, 1));
-  processPixel(base + ivec2(2, 1), ivec2(2, 1));
-  processPixel(base + ivec2(3, 1), ivec2(3, 1));
-  processPixel(base + ivec2(0, 2), ivec2(0, 2));
-  processPixel(base + ivec2(1, 2), ivec2(1, 2));
-  processPixel(base + ivec2(2, 2), ivec2(2, 2));
-  processPixel(base + ivec2(3, 2), ivec2(3, 2));
-  processPixel(base + ivec2(0, 3), ivec2(0, 3));
-  processPixel(base + ivec2(1, 3), ivec2(1, 3));
-  processPixel(base + ivec2(2, 3), ivec2(2, 3));
-  processPixel(base + ivec2(3, 3), ivec2(3, 3));
+  PROCESS_BLOCK(base);
 }
