@@ -109,7 +109,10 @@ void windowSums(ivec2 o, bool withCross, out vec3 s1, out vec3 s2, out vec3 sx) 
 }
 
 // Runs the including pass's processPixel(p, o) on every pixel of the block at base: one pixel, or
-// the 4x4 block written out call by call (see above).
+// the 4x4 block written out call by call (see above). processPixel has no early return and no
+// branch around a texture read: llvmpipe runs everything after a divergent branch under an
+// execution mask and samples lane by lane there. Pixels of a partial block past the edge compute
+// on clamped coordinates, and their stores alone are skipped.
 #define PROCESS_BLOCK(base) \
   processPixel(base, ivec2(0, 0)); \
   if (kBlocked) { \

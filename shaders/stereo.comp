@@ -7,9 +7,7 @@
 // Display only.
 #include "common.glsl"
 
-// No early return and no texture read under a condition (llvmpipe samples lane by lane under a
-// divergent execution mask): read at clamped coordinates, select at the end, skip only the store
-// of a partial block's pixels past the edge.
+// Branch-free around texture reads, the store skipped past the edge (see PROCESS_BLOCK).
 void processPixel(ivec2 p, ivec2 o) {
   ivec2 size = P.src0Rect.zw;
   const bool inRange = all(lessThan(p, size));

@@ -28,9 +28,7 @@ vec3 clipToBox(vec3 h, vec3 mn, vec3 ext) {
   return mx > 1.0 ? mn + d * (1.0 / mx) : h;
 }
 
-// Texture reads are never put under a data-dependent condition: llvmpipe can run a sample inside
-// divergent control flow lane by lane. Samples are taken at clamped coordinates and weighted or
-// selected instead.
+// No texture read under a condition (see PROCESS_BLOCK): invalid samples are weighted out.
 void addSample(mat4 m, float w, vec2 pc, float invZ, inout vec3 past, inout float wsum) {
   vec2 q;
   float iz;
@@ -62,9 +60,7 @@ float varianceAlpha(vec3 x, vec3 mean, vec3 var) {
   return clamp(a, P.w0.z, 1.0);
 }
 
-// No early return and no branch around a texture read: llvmpipe runs everything after a divergent
-// branch under an execution mask, and samples lane by lane there. The pixels of a partial block
-// past the edge compute on clamped coordinates and skip only their stores.
+// Branch-free around texture reads, stores skipped past the edge (see PROCESS_BLOCK).
 void processPixel(ivec2 p, ivec2 o) {
   ivec2 size = P.src0Rect.zw;
   const bool inRange = all(lessThan(p, size));
