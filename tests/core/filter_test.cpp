@@ -439,12 +439,13 @@ TEST_F(CoreTest, SeparateStereoPassAfterTemporalMatchesReference) {
   }
 }
 
-// Params::invocationBlock: a CPU device runs temporal and stereo 4x4 pixels per invocation, a GPU
+// Params::invocationBlock: a CPU device runs every pass but fxaa 4x4 pixels per invocation, a GPU
 // one pixel. Both layouts must give the same images, on sizes that do not divide by the block (and
-// one smaller than a block) and on every temporal mode, with depth (stereo reads both eyes' depth).
+// one smaller than a block), on the copy and every temporal mode, with depth (stereo reads both
+// eyes' depth).
 TEST_F(CoreTest, OnePixelAndBlockInvocationsAgree) {
   for (const auto& [W, H] : {std::pair<uint32_t, uint32_t>{45, 37}, {3, 2}})
-    for (const char* method : {"taa+stereo", "hmtaa", "vtaa", "hybrid+stereo"}) {
+    for (const char* method : {"none", "taa+stereo", "hmtaa", "vtaa", "hybrid+stereo"}) {
       std::array<std::array<HostImage, 2>, 2> outs;
       for (int b = 0; b < 2; ++b) {
         Params base;

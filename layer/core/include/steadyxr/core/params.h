@@ -66,8 +66,8 @@ struct Params {
   // so the pipeline does not change, and recompile, when the jitter starts.
   bool jitteredInput = false;
 
-  // Pixels per shader invocation in the temporal and stereo passes: Auto picks 4x4 on a CPU
-  // device (lavapipe; shared 3x3 neighbourhood fetches; not hmtaa, which reads no 3x3) and 1x1
+  // Pixels per shader invocation in every pass but fxaa: Auto picks 4x4 on a CPU device
+  // (lavapipe; shared 3x3 neighbourhood fetches, and faster even where none are shared) and 1x1
   // on a GPU (coalesced accesses).
   InvocationBlock invocationBlock = InvocationBlock::Auto;
 
