@@ -28,30 +28,24 @@ void main() {
   PROCESS_BLOCK(base);
 }
 '''
-skeletons = {
-    'temporal.comp': '''void processPixel(ivec2 p, ivec2 o) {
+def skeleton(alpha, stores):
+    # fetch this pixel, one reprojected bilinear tap of src1, blend, store
+    return f'''void processPixel(ivec2 p, ivec2 o) {{
   const bool inRange = all(lessThan(p, P.src0Rect.zw));
   vec3 cur = fetchSrc0(p);
   vec2 q;
   float iz;
   bool inside = reproject(P.reproj[0], vec2(p) + 0.5, P.w1.w, q, iz);
-  vec3 result = inside ? mix(sampleSrc1(q), cur, 0.1) : cur;
-  if (inRange) {
-    if (kWriteHist) imageStore(uHistOut, p, vec4(result, 1.0));
-    if (kWriteOut) writeOutput(p, result);
-  }
-}
-''',
-    'stereo.comp': '''void processPixel(ivec2 p, ivec2 o) {
-  const bool inRange = all(lessThan(p, P.src0Rect.zw));
-  vec3 y = fetchSrc0(p);
-  vec2 q;
-  float iz;
-  bool inside = reproject(P.reproj[0], vec2(p) + 0.5, P.w1.w, q, iz);
-  vec3 result = inside ? mix(sampleSrc1(q), y, 0.5) : y;
-  if (inRange) writeOutput(p, result);
-}
-''',
+  vec3 result = inside ? mix(sampleSrc1(q), cur, {alpha}) : cur;
+  if (inRange) {{
+{stores}
+  }}
+}}
+'''
+skeletons = {
+    'temporal.comp': skeleton('0.1', '    if (kWriteHist) imageStore(uHistOut, p, vec4(result, 1.0));\n'
+                                     '    if (kWriteOut) writeOutput(p, result);'),
+    'stereo.comp': skeleton('0.5', '    writeOutput(p, result);'),
 }
 for name, body in skeletons.items():
     path = shaders / name
