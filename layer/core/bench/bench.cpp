@@ -213,6 +213,13 @@ double processCpuMs() {
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
 }
+// CPU time of the calling thread alone: the host work of submit() without the time the thread
+// waits while llvmpipe's workers hold the cores (wall time, hostUs, includes that).
+double threadCpuUs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) * 1e6 + double(ts.tv_nsec) * 1e-3;
+}
 double minimum(const std::vector<double>& v) {
   return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end());
 }
@@ -220,7 +227,7 @@ double minimum(const std::vector<double>& v) {
 struct Row {
   VkExtent2D size;
   std::string method;
-  double gpuMs, copyMs, hostUs;
+  double gpuMs, copyMs, hostUs, hostCpuUs;
   double gpuMinMs, copyMinMs;  // minimum over iterations: less sensitive to a shared, loaded CPU
   double cpuMs, copyCpuMs;     // process CPU ms per frame (lavapipe's work), median
 };
@@ -260,7 +267,7 @@ int main(int argc, char** argv) {
     methods.insert(methods.begin(), "none");
     methods.push_back("none");
     struct Measured {
-      double gpuMs, gpuMinMs, cpuMs, hostUs;
+      double gpuMs, gpuMinMs, cpuMs, hostUs, hostCpuUs;
     };
     std::vector<Measured> measured;
     for (const std::string& m : methods) {
@@ -275,7 +282,7 @@ int main(int argc, char** argv) {
         std::cerr << "steadyxr-bench: " << err << "\n";
         return 1;
       }
-      std::vector<double> gpu, host, cpu;
+      std::vector<double> gpu, host, hostCpu, cpu;
       VkImageLayout outLayout = VK_IMAGE_LAYOUT_UNDEFINED;
       for (int i = 0; i < opt.warmup + opt.iterations; ++i) {
         StereoFrame f;
@@ -292,9 +299,11 @@ int main(int argc, char** argv) {
         }
         filter->waitIdle();  // host time below is the recording/submission only, no GPU wait
         const double c0 = processCpuMs();
+        const double h0 = threadCpuUs();
         const auto t0 = std::chrono::steady_clock::now();
         const bool ok = filter->submit(f, o, &err);
         const auto t1 = std::chrono::steady_clock::now();
+        const double h1 = threadCpuUs();
         if (!ok) {
           std::cerr << "submit failed: " << err << "\n";
           return 1;
@@ -305,13 +314,14 @@ int main(int argc, char** argv) {
         if (i < opt.warmup) continue;
         cpu.push_back(c1 - c0);
         host.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+        hostCpu.push_back(h1 - h0);
         if (auto t = filter->lastTimings()) gpu.push_back(t->totalMs);
       }
       for (int e = 0; e < 2; ++e) {
         filter->forgetImage(in[e]->image());
         filter->forgetImage(out[e]->image());
       }
-      measured.push_back({median(gpu), minimum(gpu), median(cpu), median(host)});
+      measured.push_back({median(gpu), minimum(gpu), median(cpu), median(host), median(hostCpu)});
     }
     const Measured& floorFirst = measured.front();
     const Measured& floorLast = measured.back();
@@ -320,14 +330,14 @@ int main(int argc, char** argv) {
     for (size_t k = 0; k + 1 < methods.size(); ++k) {
       const Measured& me = k == 0 ? floor : measured[k];
       rows.push_back({size, k == 0 ? "copy (none)" : methods[k], me.gpuMs, floor.gpuMs, me.hostUs,
-                      k == 0 ? copyMinMs : me.gpuMinMs, copyMinMs, me.cpuMs, floor.cpuMs});
+                      me.hostCpuUs, k == 0 ? copyMinMs : me.gpuMinMs, copyMinMs, me.cpuMs, floor.cpuMs});
       const Row& r = rows.back();
       std::printf(
           "%5ux%-5u %-14s gpu %8.3f ms x%5.2f copy | min %8.3f ms x%5.2f | cpu %8.3f ms x%5.2f | host %7.1f "
-          "us\n",
+          "us (thread cpu %5.1f)\n",
           size.width, size.height, r.method.c_str(), r.gpuMs, r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0,
           r.gpuMinMs, r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0, r.cpuMs,
-          r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0, r.hostUs);
+          r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0, r.hostUs, r.hostCpuUs);
     }
     std::printf("%5ux%-5u copy measured first %.3f ms, last %.3f ms (median)\n", size.width, size.height,
                 floorFirst.gpuMs, floorLast.gpuMs);
@@ -335,22 +345,23 @@ int main(int argc, char** argv) {
   }
   std::printf(
       "\n| per-eye size | method | GPU ms/stereo frame (median) | x copy | GPU ms (min) | x copy (min) | CPU "
-      "ms (lavapipe) | x copy (CPU) | host us |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|\n");
+      "ms (lavapipe) | x copy (CPU) | host us | host us (thread CPU) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows)
-    std::printf("| %ux%u | %s | %.3f | %.2f | %.3f | %.2f | %.3f | %.2f | %.1f |\n", r.size.width,
+    std::printf("| %ux%u | %s | %.3f | %.2f | %.3f | %.2f | %.3f | %.2f | %.1f | %.1f |\n", r.size.width,
                 r.size.height, r.method.c_str(), r.gpuMs, r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0, r.gpuMinMs,
                 r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0, r.cpuMs,
-                r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0, r.hostUs);
+                r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0, r.hostUs, r.hostCpuUs);
   if (!opt.csv.empty()) {
     std::ofstream csv(opt.csv);
     csv << "width,height,method,gpu_ms,copy_ms,ratio_to_copy,gpu_min_ms,copy_min_ms,ratio_min,cpu_ms,copy_"
-           "cpu_ms,ratio_cpu,host_us\n";
+           "cpu_ms,ratio_cpu,host_us,host_cpu_us\n";
     for (const Row& r : rows)
       csv << r.size.width << "," << r.size.height << "," << r.method << "," << r.gpuMs << "," << r.copyMs
           << "," << (r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0) << "," << r.gpuMinMs << "," << r.copyMinMs
           << "," << (r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0) << "," << r.cpuMs << "," << r.copyCpuMs
-          << "," << (r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0) << "," << r.hostUs << "\n";
+          << "," << (r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0) << "," << r.hostUs << "," << r.hostCpuUs
+          << "\n";
     if (!csv) {
       std::cerr << "could not write " << opt.csv << "\n";
       return 1;
