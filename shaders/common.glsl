@@ -171,6 +171,15 @@ vec3 sampleSrc1CatmullRom(vec2 q) {
 
 vec3 sampleHistory(vec2 q) { return kCatmullRom ? sampleSrc1CatmullRom(q) : sampleSrc1(q); }
 
+// Variance clipping: clips h towards the box centre mn onto the box mn +- ext, given ext^2. The
+// largest |h - mn| / ext decides, so squares do without the square roots of sigma.
+vec3 clipToBox(vec3 h, vec3 mn, vec3 ext2) {
+  vec3 d = h - mn;
+  vec3 t2 = d * d / ext2;
+  float mx2 = max(t2.x, max(t2.y, t2.z));
+  return mx2 > 1.0 ? mn + d * inversesqrt(mx2) : h;
+}
+
 float invZFromDepth(float d, vec4 dp) {
   float n = clamp((d - dp.z) * dp.w, 0.0, 1.0);
   return max(dp.x + n * dp.y, 0.0);  // 1/z is linear in the stored depth

@@ -32,12 +32,9 @@ void processPixel(ivec2 p, ivec2 o) {
     // Relative depth difference |z_e - z_o| / z_e = |iz_o - iz_e| / iz_o (infinite depths match).
     ok = ok && abs(izOther - izExpected) <= P.w1.z * izOther + 1e-7;
   }
-  vec3 x = sampleSrc1(q);
-  vec3 dx = x - mn;
   // The box always holds this eye's own pixel: identical eyes stay unchanged.
-  vec3 t = abs(dx) / (max(P.w0.y * sqrt(var), abs(y - mn)) + 1e-6);
-  float mx = max(t.x, max(t.y, t.z));
-  x = mx > 1.0 ? mn + dx * (1.0 / mx) : x;
+  vec3 dy = y - mn;
+  vec3 x = clipToBox(sampleSrc1(q), mn, max(P.w0.y * P.w0.y * var, dy * dy) + 1e-12);
   float sigma2 = (var.r + var.g + var.b) * (1.0 / 3.0);
   vec3 d = x - mn;
   float e = dot(d, d) * (1.0 / 3.0) + sigma2;

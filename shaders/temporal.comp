@@ -20,14 +20,6 @@ vec3 yCoCgSquares(vec3 s2, vec3 sx) {
               0.0625 * s2.r + 0.25 * s2.g + 0.0625 * s2.b - 0.25 * sx.x + 0.125 * sx.y - 0.25 * sx.z);
 }
 
-// Clips h (YCoCg) towards the box centre mn onto the box mn +- ext (taa's variance clipping).
-vec3 clipToBox(vec3 h, vec3 mn, vec3 ext) {
-  vec3 d = h - mn;
-  vec3 t = abs(d) / ext;
-  float mx = max(t.x, max(t.y, t.z));
-  return mx > 1.0 ? mn + d * (1.0 / mx) : h;
-}
-
 // No texture read under a condition (see PROCESS_BLOCK): invalid samples are weighted out.
 void addSample(mat4 m, float w, vec2 pc, float invZ, inout vec3 past, inout float wsum) {
   vec2 q;
@@ -104,7 +96,7 @@ void processPixel(ivec2 p, ivec2 o) {
     float iz;
     bool inside = reproject(P.reproj[0], pc, invZ, q, iz);
     // Variance clipping: clip the history towards the mean onto the box mean +- gamma*sigma.
-    vec3 h = clipToBox(toYCoCg(sampleHistory(q)), mn, P.w0.y * sqrt(var) + 1e-6);
+    vec3 h = clipToBox(toYCoCg(sampleHistory(q)), mn, P.w0.y * P.w0.y * var + 1e-12);
     vec3 blended = max(mix(fromYCoCg(h), cur, P.w0.x), vec3(0.0));
     result = historyValid && inside ? blended : cur;
   } else {
@@ -126,7 +118,7 @@ void processPixel(ivec2 p, ivec2 o) {
       // below A(h) of seed 003 Eq. 4 with w_min = alphaMin. (3) The current frame enters through
       // a [1/16, 7/8, 1/16]^2 footprint filter: the target is the pixel-area average and a lone
       // centre sample is sharper than that (measured: lower RMSE on thin/high-contrast detail).
-      past = max(fromYCoCg(clipToBox(toYCoCg(past), ymn, P.w0.y * sqrt(yvar) + 1e-6)), vec3(0.0));
+      past = max(fromYCoCg(clipToBox(toYCoCg(past), ymn, P.w0.y * P.w0.y * yvar + 1e-12)), vec3(0.0));
       float ah = P.w0.w * (1.0 - P.w0.z) + P.w0.z;
       a = P.w0.w >= 1.0 ? 1.0 : max(varianceAlpha(past, mn, var), ah);  // h > h_max: current frame
       cur = a < 1.0 ? fc : cur;
