@@ -682,13 +682,10 @@ int runSuite(const Options& o) {
           frameSq += mse / 2;
           a.sqErr += mse * nPix * 3;
           a.sqN += double(nPix) * 3;
-          // SSIM and the display stage on the left eye only: they are the costly metrics.
-          if (eye == 0) {
-            const double s = ssim(out[eye], gt[eye]);
-            frameSsim = s;
-            a.ssimSum += s;
-            a.ssimN += 1;
-          }
+          const double s = ssim(out[eye], gt[eye]);
+          frameSsim += s / 2;
+          a.ssimSum += s;
+          a.ssimN += 1;
           if (!a.prev[eye].empty()) {
             const double m = 255.0 * temporalColorDifference(a.prev[eye], out[eye]);
             frameMtcd = (frameMtcd < 0 ? 0 : frameMtcd) + m / 2;
@@ -696,17 +693,17 @@ int runSuite(const Options& o) {
             a.mtcdN += 1;
           }
           // Display stage (a): the runtime's rotational timewarp of this frame until the next one.
-          for (int k = 0; k < (eye == 0 ? ratio : 0); ++k) {
+          for (int k = 0; k < ratio; ++k) {
             const Image shown = k == 0 ? out[eye] : rotationalTimewarp(out[eye], cams[eye], dispCams[k][eye]);
             const double dmse = meanSquaredError(shown, dispGt[k][eye]);
-            frameSqDisp += dmse / ratio;
+            frameSqDisp += dmse / (2 * ratio);
             a.sqErrDisp += dmse;
             a.sqDispN += 1;
             a.errPxDisp += double(errorPixels(shown, dispGt[k][eye], o.errorThreshold)) / double(nPix);
             a.errPxDispN += 1;
             if (!a.prevDisplay[eye].empty()) {
               const double m = 255.0 * temporalColorDifference(a.prevDisplay[eye], shown);
-              frameMtcdDisp = (frameMtcdDisp < 0 ? 0 : frameMtcdDisp) + m / ratio;
+              frameMtcdDisp = (frameMtcdDisp < 0 ? 0 : frameMtcdDisp) + m / (2 * ratio);
               a.mtcdDispSum += m;
               a.mtcdDispN += 1;
             }
