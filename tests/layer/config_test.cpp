@@ -2,6 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <map>
 
 namespace steadyxr::layer {
@@ -70,11 +77,11 @@ TEST(Config, BadValuesKeepDefaultsAndNameTheKey) {
   EXPECT_EQ(c.dumpFrames, 0u);
   EXPECT_FLOAT_EQ(c.params.hMaxDegPerSec, core::Params{}.hMaxDegPerSec);
   EXPECT_EQ(c.poseSource, PoseSourceKind::Runtime);
-  EXPECT_TRUE(mentions(messages, "'method'", "default"));
-  EXPECT_TRUE(mentions(messages, "'w_min'", "0.3"));
-  EXPECT_TRUE(mentions(messages, "'dump_frames'", "0"));
-  EXPECT_TRUE(mentions(messages, "'h_max'", "25"));
-  EXPECT_TRUE(mentions(messages, "'pose_source'", "STEADYXR_POSE_SOURCE"));
+  EXPECT_TRUE(mentions(messages, "method = sharpen", "default default"));
+  EXPECT_TRUE(mentions(messages, "w_min = 7", "default 0.3"));
+  EXPECT_TRUE(mentions(messages, "dump_frames = -3", "default 0"));
+  EXPECT_TRUE(mentions(messages, "h_max = nan", "default 25"));
+  EXPECT_TRUE(mentions(messages, "STEADYXR_POSE_SOURCE = gps", "environment"));
 }
 
 TEST(Config, MalformedLinesAndUnknownKeysAreReported) {
@@ -135,6 +142,188 @@ TEST(Config, MethodNames) {
   for (const char* bad : {"", "+stereo", "stereo+stereo", "TAA", "msaa4"})
     EXPECT_FALSE(isKnownMethodName(bad)) << bad;
   EXPECT_EQ(envNameForKey("log_level"), "STEADYXR_LOG_LEVEL");
+}
+
+// A temporary folder, removed with everything in it.
+class TempDir {
+ public:
+  TempDir() {
+    std::string t = (std::filesystem::temp_directory_path() / "steadyxr-config-XXXXXX").string();
+    path_ = ::mkdtemp(t.data());
+  }
+  ~TempDir() { std::filesystem::remove_all(path_); }
+  std::string file(const std::string& name, const std::string& content) const {
+    const std::string p = path_ + "/" + name;
+    std::ofstream(p, std::ios::binary) << content;
+    return p;
+  }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+TEST(ConfigHardening, DirectoryIsRejectedAndNotAnnounced) {
+  TempDir dir;
+  std::vector<std::string> messages;
+  const Config c = loadConfig("app", envOf({{"STEADYXR_CONFIG", dir.path()}}), &messages);
+  EXPECT_TRUE(mentions(messages, dir.path(), "not a regular file (a directory)"));
+  EXPECT_TRUE(c.configFile.empty());  // never announced as the config
+  EXPECT_EQ(c.method, "default");
+}
+
+TEST(ConfigHardening, DeviceAndPipeAreRejectedWithoutReading) {
+  std::vector<std::string> messages;
+  const auto start = std::chrono::steady_clock::now();
+  const Config c = loadConfig("app", envOf({{"STEADYXR_CONFIG", "/dev/zero"}}), &messages);
+  EXPECT_TRUE(mentions(messages, "/dev/zero", "not a regular file (a device, pipe or socket)"));
+  EXPECT_TRUE(c.configFile.empty());
+  TempDir dir;
+  const std::string fifo = dir.path() + "/fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  messages.clear();
+  std::string error;
+  EXPECT_FALSE(readConfigFile(fifo, &error).has_value());  // returns at once: no writer is waited for
+  EXPECT_NE(error.find("not a regular file"), std::string::npos) << error;
+  // /dev/zero read to the end would never return; a FIFO open would block.
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
+}
+
+TEST(ConfigHardening, SizeCap) {
+  TempDir dir;
+  // Exactly the limit is read; one byte more is refused with a clear message.
+  std::string atLimit = "method = taa\n";
+  atLimit += std::string(kMaxConfigBytes - atLimit.size() - 1, '#') + "\n";
+  ASSERT_EQ(atLimit.size(), kMaxConfigBytes);
+  std::vector<std::string> messages;
+  Config c = loadConfig("app", envOf({{"STEADYXR_CONFIG", dir.file("ok.conf", atLimit)}}), &messages);
+  EXPECT_TRUE(messages.empty());
+  EXPECT_EQ(c.method, "taa");
+  const std::string big = dir.file("big.conf", atLimit + "#");
+  c = loadConfig("app", envOf({{"STEADYXR_CONFIG", big}}), &messages);
+  EXPECT_EQ(c.method, "default");
+  EXPECT_TRUE(c.configFile.empty());
+  EXPECT_TRUE(mentions(messages, big, "larger than the limit of 1048576 bytes"));
+}
+
+TEST(ConfigHardening, WarningsAreCappedWithACount) {
+  std::string text;
+  for (int i = 0; i < 100000; ++i) text += "bad line " + std::to_string(i) + "\n";
+  text += "w_min = x\n";
+  std::vector<std::string> messages;
+  const ConfigText t = parseConfigText(text, &messages);
+  resolveConfig(t, "app", envOf({}), &messages);
+  ASSERT_EQ(messages.size(), kMaxConfigMessages + 2);  // 10, the parser's count, the resolver's count
+  EXPECT_TRUE(mentions(messages, "line 1:", "expected key = value"));
+  EXPECT_EQ(messages[kMaxConfigMessages], "config: 99990 more problems not shown");
+  EXPECT_EQ(messages[kMaxConfigMessages + 1], "config: 1 more problem not shown");
+}
+
+TEST(ConfigHardening, DuplicateKeysAreWarnedAndTheLaterWins) {
+  std::vector<std::string> messages;
+  const ConfigText t =
+      parseConfigText("method = taa\nw_min = 0.2\n[app]\nmethod = fxaa\nMETHOD = none\n", &messages);
+  ASSERT_EQ(messages.size(), 1u);  // the global and the section's method are different settings
+  EXPECT_EQ(messages[0],
+            "config: line 5: method is set again in [app] (also on line 4); the later value 'none' wins");
+  EXPECT_EQ(resolveConfig(t, "app", envOf({}), &messages).method, "none");
+  messages.clear();
+  parseConfigText("method = taa\nmethod = hmtaa\n", &messages);
+  EXPECT_TRUE(mentions(messages, "line 2: method is set again (also on line 1)", "'hmtaa' wins"));
+}
+
+TEST(ConfigHardening, MessagesUseTheUsersKeysAndValues) {
+  std::vector<std::string> messages;
+  Config c = resolveConfig(parseConfigText("w_lb = abc\n", &messages), "app", envOf({}), &messages);
+  ASSERT_EQ(messages.size(), 1u);
+  EXPECT_EQ(messages[0],
+            "config: w_lb = abc (config file): expected a number in [0, 1]; using the default 0.1");
+  messages.clear();
+  c = resolveConfig(parseConfigText("w_lb = 0.5\n", &messages), "app", envOf({}), &messages);
+  EXPECT_TRUE(mentions(messages, "w_lb = 0.5 is above w_min = 0.3", "using w_lb = 0.3"));
+  EXPECT_FLOAT_EQ(c.params.wLowerBound, 0.3f);
+  messages.clear();
+  resolveConfig({}, "app", envOf({{"STEADYXR_W_LB", "abc"}}), &messages);
+  EXPECT_TRUE(mentions(messages, "STEADYXR_W_LB = abc", "(environment)"));
+  // Values the core would refuse are refused here, in the user's words (never "taaAlpha").
+  messages.clear();
+  c = resolveConfig(parseConfigText("taa_alpha = 0\nreset_angle_deg = 0\n", &messages), "app", envOf({}),
+                    &messages);
+  EXPECT_TRUE(mentions(messages, "taa_alpha = 0", "(0, 1]"));
+  EXPECT_TRUE(mentions(messages, "reset_angle_deg = 0", "(0, 180]"));
+  for (const auto& m : messages) EXPECT_EQ(m.find("taaAlpha"), std::string::npos) << m;
+  core::Params checked;
+  EXPECT_EQ(core::validate(c.params, &checked), "");
+}
+
+TEST(ConfigHardening, NumbersAreDecimalOnly) {
+  for (const char* bad : {"0x10", "1,5", "inf", "nan", "+-1", "1e", " ", "25deg"}) {
+    std::vector<std::string> messages;
+    const Config c = resolveConfig({}, "a", envOf({{"STEADYXR_H_MAX", bad}}), &messages);
+    EXPECT_FLOAT_EQ(c.params.hMaxDegPerSec, core::Params{}.hMaxDegPerSec) << bad;
+    EXPECT_EQ(messages.size(), 1u) << bad;
+  }
+  for (const char* bad : {"0x10", "1.5", "-1", "+3"}) {
+    std::vector<std::string> messages;
+    resolveConfig({}, "a", envOf({{"STEADYXR_DUMP_FRAMES", bad}}), &messages);
+    EXPECT_EQ(messages.size(), 1u) << bad;
+  }
+  std::vector<std::string> messages;
+  const Config c = resolveConfig(parseConfigText("h_max = 1e1\nw_min = .25\ndump_frames = 010\n", &messages),
+                                 "a", envOf({}), &messages);
+  EXPECT_TRUE(messages.empty());
+  EXPECT_FLOAT_EQ(c.params.hMaxDegPerSec, 10.0f);
+  EXPECT_FLOAT_EQ(c.params.wMin, 0.25f);
+  EXPECT_EQ(c.dumpFrames, 10u);  // decimal, not octal
+}
+
+TEST(ConfigReload, GoodEditIsTakenBadEditIsRefused) {
+  TempDir dir;
+  const auto env = envOf({{"STEADYXR_LOG_LEVEL", "loud"}});  // a bad variable must not block reloads
+  std::vector<std::string> messages;
+  const std::string path = dir.file("s.conf", "method = taa\n[app]\nenabled = 0\n[other]\nw_min = 2\n");
+  std::optional<Config> c = reloadConfig(path, "app", env, &messages);
+  ASSERT_TRUE(c.has_value()) << (messages.empty() ? "" : messages[0]);
+  EXPECT_EQ(c->method, "taa");
+  EXPECT_FALSE(c->enabled);
+  EXPECT_EQ(c->configFile, path);
+  for (const char* edit : {"method = sharpen\n", "method = taa\nmethd = none\n", "[app\n", "w_lb = 0.9\n"}) {
+    messages.clear();
+    dir.file("s.conf", edit);
+    EXPECT_FALSE(reloadConfig(path, "app", env, &messages).has_value()) << edit;
+    EXPECT_FALSE(messages.empty()) << edit;
+  }
+  messages.clear();
+  EXPECT_FALSE(reloadConfig(dir.path() + "/gone.conf", "app", env, &messages).has_value());
+  EXPECT_TRUE(mentions(messages, "gone.conf", "cannot be opened"));
+}
+
+TEST(ConfigReload, EnvironmentStillWinsAndHardDisables) {
+  TempDir dir;
+  std::vector<std::string> messages;
+  const std::string path = dir.file("s.conf", "method = taa\nenabled = 1\n");
+  auto c =
+      reloadConfig(path, "app", envOf({{"STEADYXR_METHOD", "none"}, {"STEADYXR_DISABLE", "1"}}), &messages);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_EQ(c->method, "none");
+  EXPECT_FALSE(c->enabled);
+  EXPECT_TRUE(c->environmentDisabled);
+  EXPECT_FALSE(resolveConfig(parseConfigText("enabled = 0\n", &messages), "a", envOf({}), &messages)
+                   .environmentDisabled);  // the file's switch stays a live one
+}
+
+TEST(ConfigReload, CheckSetting) {
+  EXPECT_EQ(checkSetting("method", "taa"), "");
+  EXPECT_EQ(checkSetting("W_LB", " 0.05 "), "");
+  EXPECT_NE(checkSetting("method", "sharpen").find("method = sharpen"), std::string::npos);
+  EXPECT_NE(checkSetting("colour", "red").find("unknown key 'colour'"), std::string::npos);
+  EXPECT_NE(checkSetting("h_max", "0x10").find("h_max = 0x10"), std::string::npos);
+}
+
+TEST(Config, UserConfigPath) {
+  EXPECT_EQ(userConfigPath(envOf({{"XDG_CONFIG_HOME", "/x"}, {"HOME", "/h"}})), "/x/steadyxr/steadyxr.conf");
+  EXPECT_EQ(userConfigPath(envOf({{"HOME", "/h"}})), "/h/.config/steadyxr/steadyxr.conf");
+  EXPECT_EQ(userConfigPath(envOf({})), "");
 }
 
 }  // namespace

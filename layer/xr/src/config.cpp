@@ -1,13 +1,17 @@
 #include "config.h"
 
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
+#include <locale>
 #include <sstream>
+#include <system_error>
 
 namespace steadyxr::layer {
 namespace {
@@ -25,6 +29,38 @@ std::string lower(std::string s) {
   return s;
 }
 
+// Keeps the first kMaxConfigMessages messages of the caller's list and counts the rest, which
+// it reports in one line when it goes out of scope: 10^6 bad lines must not mean 10^6 warnings.
+class MessageSink {
+ public:
+  explicit MessageSink(std::vector<std::string>* out) : out_(out) {}
+  ~MessageSink() {
+    if (out_ != nullptr && dropped_ > 0) {
+      out_->push_back("config: " + std::to_string(dropped_) + " more problem" + (dropped_ == 1 ? "" : "s") +
+                      " not shown");
+    }
+  }
+  MessageSink(const MessageSink&) = delete;
+  MessageSink& operator=(const MessageSink&) = delete;
+  // `make` builds the text only when it is kept.
+  template <typename F>
+  void add(F&& make) {
+    ++total_;
+    if (out_ == nullptr) return;
+    if (out_->size() < kMaxConfigMessages) {
+      out_->push_back(make());
+    } else {
+      ++dropped_;
+    }
+  }
+  size_t total() const { return total_; }
+
+ private:
+  std::vector<std::string>* out_;
+  size_t dropped_ = 0;
+  size_t total_ = 0;
+};
+
 std::optional<bool> parseBool(const std::string& v) {
   const std::string l = lower(v);
   if (l == "1" || l == "true" || l == "yes" || l == "on") return true;
@@ -32,41 +68,45 @@ std::optional<bool> parseBool(const std::string& v) {
   return std::nullopt;
 }
 
+// Decimal only and independent of the locale (std::from_chars): "0x10", "1,5", "nan" and
+// "inf" are not numbers here.
 std::optional<double> parseNumber(const std::string& v) {
   if (v.empty()) return std::nullopt;
-  // strtod accepts "nan"/"inf": rejected below by the finite check.
-  char* end = nullptr;
-  const double d = std::strtod(v.c_str(), &end);
-  if (end != v.c_str() + v.size() || !std::isfinite(d)) return std::nullopt;
+  double d = 0.0;
+  const auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), d, std::chars_format::general);
+  if (ec != std::errc() || ptr != v.data() + v.size() || !std::isfinite(d)) return std::nullopt;
   return d;
 }
 
 std::optional<uint32_t> parseCount(const std::string& v) {
   uint32_t out = 0;
   const auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), out);
-  if (ec != std::errc() || ptr != v.data() + v.size()) return std::nullopt;
+  if (v.empty() || ec != std::errc() || ptr != v.data() + v.size()) return std::nullopt;
   return out;
 }
 
-// Float tunables of core::Params: key, member, accepted closed range.
+// Float tunables of core::Params: key, member, accepted range. The ranges are those
+// core::validate accepts (strict where it needs a positive value), so that a value the config
+// takes never reaches the core as invalid.
 struct FloatKey {
   const char* key;
   float core::Params::*member;
   float min;
   float max;
+  bool minExclusive;
 };
 constexpr FloatKey kFloatKeys[] = {
-    {"taa_alpha", &core::Params::taaAlpha, 0.0f, 1.0f},
-    {"taa_clip_gamma", &core::Params::taaClipGamma, 0.0f, 10.0f},
-    {"h_max", &core::Params::hMaxDegPerSec, 0.001f, 10000.0f},
-    {"w_min", &core::Params::wMin, 0.0f, 1.0f},
-    {"w_lb", &core::Params::wLowerBound, 0.0f, 1.0f},
-    {"vtaa_alpha_min", &core::Params::vtaaAlphaMin, 0.0f, 1.0f},
-    {"stereo_far_m", &core::Params::stereoFarDistanceM, 0.01f, 1.0e6f},
-    {"stereo_depth_tolerance", &core::Params::stereoDepthTolerance, 0.0f, 1.0f},
-    {"stereo_beta_min", &core::Params::stereoBetaMin, 0.0f, 1.0f},
-    {"reset_angle_deg", &core::Params::resetAngleDeg, 0.0f, 180.0f},
-    {"reset_translation_m", &core::Params::resetTranslationM, 0.0f, 100.0f},
+    {"taa_alpha", &core::Params::taaAlpha, 0.0f, 1.0f, true},
+    {"taa_clip_gamma", &core::Params::taaClipGamma, 0.0f, 10.0f, true},
+    {"h_max", &core::Params::hMaxDegPerSec, 0.001f, 10000.0f, false},
+    {"w_min", &core::Params::wMin, 0.0f, 1.0f, false},
+    {"w_lb", &core::Params::wLowerBound, 0.0f, 1.0f, false},
+    {"vtaa_alpha_min", &core::Params::vtaaAlphaMin, 0.0f, 1.0f, false},
+    {"stereo_far_m", &core::Params::stereoFarDistanceM, 0.01f, 1.0e6f, false},
+    {"stereo_depth_tolerance", &core::Params::stereoDepthTolerance, 0.0f, 1.0f, false},
+    {"stereo_beta_min", &core::Params::stereoBetaMin, 0.0f, 1.0f, false},
+    {"reset_angle_deg", &core::Params::resetAngleDeg, 0.0f, 180.0f, true},
+    {"reset_translation_m", &core::Params::resetTranslationM, 0.0f, 100.0f, true},
 };
 
 constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source",   "imu_device",
@@ -75,32 +115,49 @@ constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source"
 
 std::string formatFloat(float f) {
   std::ostringstream os;
+  os.imbue(std::locale::classic());
   os << f;
   return os.str();
 }
 
-void bad(std::vector<std::string>* messages, const std::string& key, const std::string& value,
-         const std::string& origin, const std::string& defaultText) {
-  if (messages) {
-    messages->push_back("config: bad value '" + value + "' for key '" + key + "' (" + origin +
-                        "); using the default " + defaultText);
-  }
+// Where a value came from, in the user's words: the line they wrote or the variable they set.
+struct Origin {
+  std::string where;  // "config file", "config section [app]", "environment"
+  std::string name;   // what the user wrote: the key, or the variable's name
+};
+
+// "w_lb = abc (config file): expected a number in [0, 1]; using the default 0.1"
+void bad(MessageSink& sink, const Origin& origin, const std::string& value, const std::string& expected,
+         const std::string& defaultText) {
+  sink.add([&] {
+    return "config: " + origin.name + " = " + value + " (" + origin.where + "): expected " + expected +
+           "; using the default " + defaultText;
+  });
 }
 
-// Applies one key; `origin` says where it came from, for the message.
-void applyKey(Config& c, const std::string& key, const std::string& value, const std::string& origin,
-              std::vector<std::string>* messages) {
+std::string rangeText(const FloatKey& f) {
+  return std::string("a number in ") + (f.minExclusive ? "(" : "[") + formatFloat(f.min) + ", " +
+         formatFloat(f.max) + "]";
+}
+
+constexpr const char* kBoolText = "1/0, true/false, yes/no or on/off";
+constexpr const char* kMethodText =
+    "none, fxaa, taa, hmtaa, vtaa, hybrid, stereo, <one of these>+stereo or default";
+
+// Applies one key.
+void applyKey(Config& c, const std::string& key, const std::string& value, const Origin& origin,
+              MessageSink& sink) {
   const Config defaults;
   if (key == "enabled") {
     if (auto b = parseBool(value))
       c.enabled = *b;
     else
-      bad(messages, key, value, origin, "1");
+      bad(sink, origin, value, kBoolText, "1");
   } else if (key == "method") {
     if (isKnownMethodName(lower(value)))
       c.method = lower(value);
     else
-      bad(messages, key, value, origin, defaults.method);
+      bad(sink, origin, value, kMethodText, defaults.method);
   } else if (key == "pose_source") {
     const std::string l = lower(value);
     if (l == "runtime")
@@ -108,12 +165,12 @@ void applyKey(Config& c, const std::string& key, const std::string& value, const
     else if (l == "imu")
       c.poseSource = PoseSourceKind::Imu;
     else
-      bad(messages, key, value, origin, "runtime");
+      bad(sink, origin, value, "runtime or imu", "runtime");
   } else if (key == "imu_device") {
     if (!value.empty())
       c.imuDevice = value;
     else
-      bad(messages, key, value, origin, defaults.imuDevice);
+      bad(sink, origin, value, "a device spec", defaults.imuDevice);
   } else if (key == "log_level") {
     const std::string l = lower(value);
     if (l == "error")
@@ -125,24 +182,24 @@ void applyKey(Config& c, const std::string& key, const std::string& value, const
     else if (l == "debug")
       c.logLevel = LogLevel::Debug;
     else
-      bad(messages, key, value, origin, "info");
+      bad(sink, origin, value, "error, warn, info or debug", "info");
   } else if (key == "log_file") {
     c.logFile = value;
   } else if (key == "dump_frames") {
     if (auto n = parseCount(value); n && *n <= 100000)
       c.dumpFrames = *n;
     else
-      bad(messages, key, value, origin, "0");
+      bad(sink, origin, value, "a whole number in [0, 100000]", "0");
   } else if (key == "dump_dir") {
     if (!value.empty())
       c.dumpDir = value;
     else
-      bad(messages, key, value, origin, defaults.dumpDir);
+      bad(sink, origin, value, "a folder", defaults.dumpDir);
   } else if (key == "jitter") {
     if (auto b = parseBool(value))
       c.jitter = *b;
     else
-      bad(messages, key, value, origin, "0");
+      bad(sink, origin, value, kBoolText, "0");
   } else if (key == "history_filter") {
     const std::string l = lower(value);
     if (l == "bilinear")
@@ -150,25 +207,38 @@ void applyKey(Config& c, const std::string& key, const std::string& value, const
     else if (l == "catmull-rom" || l == "catmullrom")
       c.params.historyFilter = core::HistoryFilter::CatmullRom;
     else
-      bad(messages, key, value, origin, "bilinear");
+      bad(sink, origin, value, "bilinear or catmull-rom", "bilinear");
   } else if (key == "sample_count") {
     if (auto n = parseCount(value); n && *n >= 1 && *n <= core::Params::kMaxSamples)
       c.params.sampleCount = *n;
     else
-      bad(messages, key, value, origin, std::to_string(defaults.params.sampleCount));
+      bad(sink, origin, value, "a whole number in [1, " + std::to_string(core::Params::kMaxSamples) + "]",
+          std::to_string(defaults.params.sampleCount));
   } else {
     for (const FloatKey& f : kFloatKeys) {
       if (key == f.key) {
         const auto d = parseNumber(value);
-        if (d && *d >= f.min && *d <= f.max)
+        if (d && (f.minExclusive ? *d > f.min : *d >= f.min) && *d <= f.max)
           c.params.*f.member = static_cast<float>(*d);
         else
-          bad(messages, key, value, origin, formatFloat(defaults.params.*f.member));
+          bad(sink, origin, value, rangeText(f), formatFloat(defaults.params.*f.member));
         return;
       }
     }
-    if (messages) messages->push_back("config: unknown key '" + key + "' (" + origin + "); ignored");
+    sink.add([&] { return "config: unknown key '" + origin.name + "' (" + origin.where + "); ignored"; });
   }
+}
+
+// Seed 003's Eq. 5 lowers w_min towards w_lb: w_lb above w_min has no meaning (the core would
+// replace it). Said here in the user's keys, not the core's field names.
+void checkWeights(Config& c, MessageSink& sink) {
+  if (c.params.wLowerBound <= c.params.wMin) return;
+  sink.add([&] {
+    return "config: w_lb = " + formatFloat(c.params.wLowerBound) +
+           " is above w_min = " + formatFloat(c.params.wMin) +
+           " (w_lb must not exceed w_min); using w_lb = " + formatFloat(c.params.wMin);
+  });
+  c.params.wLowerBound = c.params.wMin;
 }
 
 }  // namespace
@@ -219,8 +289,12 @@ EnvLookup processEnvironment() {
 }
 
 ConfigText parseConfigText(std::string_view text, std::vector<std::string>* messages) {
+  MessageSink sink(messages);
   ConfigText out;
   std::map<std::string, std::string>* current = &out.global;
+  std::string currentName;  // section name; empty: the global part
+  // Line of each key's last setting, per part, to warn about duplicates.
+  std::map<std::string, std::map<std::string, size_t>> keyLines;
   size_t lineNo = 0;
   size_t pos = 0;
   while (pos <= text.size()) {
@@ -233,22 +307,32 @@ ConfigText parseConfigText(std::string_view text, std::vector<std::string>* mess
     if (line.empty() || line[0] == '#' || line[0] == ';') continue;
     if (line.front() == '[') {
       if (line.back() != ']' || line.size() < 3) {
-        if (messages)
-          messages->push_back("config: line " + std::to_string(lineNo) + ": malformed section header");
+        sink.add([&] { return "config: line " + std::to_string(lineNo) + ": malformed section header"; });
         continue;
       }
-      current = &out.sections[trim(std::string_view(line).substr(1, line.size() - 2))];
+      currentName = trim(std::string_view(line).substr(1, line.size() - 2));
+      current = &out.sections[currentName];
       continue;
     }
     const size_t eq = line.find('=');
     if (eq == std::string::npos || trim(std::string_view(line).substr(0, eq)).empty()) {
-      if (messages) messages->push_back("config: line " + std::to_string(lineNo) + ": expected key = value");
+      sink.add([&] { return "config: line " + std::to_string(lineNo) + ": expected key = value"; });
       continue;
     }
     std::string value = trim(std::string_view(line).substr(eq + 1));
     // Trailing comments, only when separated by whitespace ("a = b  # note").
     if (const size_t hash = value.find(" #"); hash != std::string::npos) value = trim(value.substr(0, hash));
-    (*current)[lower(trim(std::string_view(line).substr(0, eq)))] = value;
+    const std::string key = lower(trim(std::string_view(line).substr(0, eq)));
+    size_t& firstLine = keyLines[currentName][key];
+    if (firstLine != 0) {
+      sink.add([&] {
+        return "config: line " + std::to_string(lineNo) + ": " + key + " is set again" +
+               (currentName.empty() ? "" : " in [" + currentName + "]") + " (also on line " +
+               std::to_string(firstLine) + "); the later value '" + value + "' wins";
+      });
+    }
+    firstLine = lineNo;
+    (*current)[key] = value;
   }
   return out;
 }
@@ -259,33 +343,78 @@ std::optional<std::string> findConfigFile(const EnvLookup& env,
     return *p;  // named explicitly: used (and reported if unreadable) even when missing
   }
   if (exists("steadyxr.conf")) return std::string("steadyxr.conf");
+  if (std::string p = userConfigPath(env); !p.empty() && exists(p)) return p;
+  return std::nullopt;
+}
+
+std::string userConfigPath(const EnvLookup& env) {
   std::string base;
   if (auto x = env("XDG_CONFIG_HOME"); x && !x->empty()) {
     base = *x;
   } else if (auto h = env("HOME"); h && !h->empty()) {
     base = *h + "/.config";
   }
-  if (!base.empty()) {
-    const std::string p = base + "/steadyxr/steadyxr.conf";
-    if (exists(p)) return p;
-  }
-  return std::nullopt;
+  return base.empty() ? std::string() : base + "/steadyxr/steadyxr.conf";
 }
 
 Config resolveConfig(const ConfigText& text, std::string_view applicationName, const EnvLookup& env,
                      std::vector<std::string>* messages) {
+  MessageSink sink(messages);
   Config c;
-  for (const auto& [k, v] : text.global) applyKey(c, k, v, "config file", messages);
+  for (const auto& [k, v] : text.global) applyKey(c, k, v, {"config file", k}, sink);
   if (auto it = text.sections.find(std::string(applicationName)); it != text.sections.end()) {
-    for (const auto& [k, v] : it->second) applyKey(c, k, v, "config section [" + it->first + "]", messages);
+    for (const auto& [k, v] : it->second) applyKey(c, k, v, {"config section [" + it->first + "]", k}, sink);
   }
   for (const std::string& key : knownConfigKeys()) {
     const std::string name = envNameForKey(key);
-    if (auto v = env(name)) applyKey(c, key, trim(*v), "environment " + name, messages);
+    if (auto v = env(name)) {
+      applyKey(c, key, trim(*v), {"environment", name}, sink);
+      if (key == "enabled" && !c.enabled) c.environmentDisabled = true;
+    }
   }
   // A plain off switch that needs no value syntax.
-  if (auto v = env("STEADYXR_DISABLE"); v && !v->empty() && *v != "0") c.enabled = false;
+  if (auto v = env("STEADYXR_DISABLE"); v && !v->empty() && *v != "0") {
+    c.enabled = false;
+    c.environmentDisabled = true;
+  }
+  checkWeights(c, sink);
   return c;
+}
+
+std::optional<std::string> readConfigFile(const std::string& path, std::string* error) {
+  const auto fail = [&](const std::string& why) -> std::optional<std::string> {
+    if (error) *error = "config: '" + path + "' " + why;
+    return std::nullopt;
+  };
+  // O_NONBLOCK: opening a FIFO must not wait for a writer (it is rejected below anyway).
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
+  if (fd < 0) return fail("cannot be opened (" + std::generic_category().message(errno) + ")");
+  struct FdCloser {
+    int fd;
+    ~FdCloser() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) return fail("cannot be read (" + std::generic_category().message(errno) + ")");
+  if (!S_ISREG(st.st_mode)) {
+    return fail(std::string("is not a regular file (") +
+                (S_ISDIR(st.st_mode) ? "a directory" : "a device, pipe or socket") + ")");
+  }
+  const std::string tooBig = "is larger than the limit of " + std::to_string(kMaxConfigBytes) + " bytes";
+  if (static_cast<uint64_t>(st.st_size) > kMaxConfigBytes) return fail(tooBig);
+  // Reads until the end or one byte past the limit (the file may grow while it is read).
+  std::string text;
+  size_t got = 0;
+  while (got <= kMaxConfigBytes) {
+    text.resize(std::min(got + 65536, kMaxConfigBytes + 1));
+    const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return fail("cannot be read (" + std::generic_category().message(errno) + ")");
+    if (n == 0) break;
+    got += static_cast<size_t>(n);
+  }
+  if (got > kMaxConfigBytes) return fail(tooBig);
+  text.resize(got);
+  return text;
 }
 
 Config loadConfig(std::string_view applicationName, const EnvLookup& env,
@@ -296,19 +425,53 @@ Config loadConfig(std::string_view applicationName, const EnvLookup& env,
   };
   ConfigText text;
   const std::optional<std::string> path = findConfigFile(env, exists);
+  bool read = false;
   if (path) {
-    std::ifstream in(*path);
-    if (in) {
-      std::stringstream ss;
-      ss << in.rdbuf();
-      text = parseConfigText(ss.str(), messages);
+    std::string error;
+    if (std::optional<std::string> content = readConfigFile(*path, &error)) {
+      text = parseConfigText(*content, messages);
+      read = true;
     } else if (messages) {
-      messages->push_back("config: cannot read '" + *path + "'; using defaults and the environment");
+      messages->push_back(error + "; using defaults and the environment");
     }
   }
   Config c = resolveConfig(text, applicationName, env, messages);
-  if (path) c.configFile = *path;
+  if (read) c.configFile = *path;
   return c;
+}
+
+std::optional<Config> reloadConfig(const std::string& path, std::string_view applicationName,
+                                   const EnvLookup& env, std::vector<std::string>* messages) {
+  std::string error;
+  const std::optional<std::string> content = readConfigFile(path, &error);
+  if (!content) {
+    if (messages) messages->push_back(error);
+    return std::nullopt;
+  }
+  // Problems of the file alone decide (a bad environment variable was reported at start-up and
+  // must not block every later edit).
+  std::vector<std::string> problems;
+  const ConfigText text = parseConfigText(*content, &problems);
+  const auto noEnvironment = [](const std::string&) -> std::optional<std::string> { return std::nullopt; };
+  resolveConfig(text, applicationName, noEnvironment, &problems);
+  if (!problems.empty()) {
+    if (messages) messages->insert(messages->end(), problems.begin(), problems.end());
+    return std::nullopt;
+  }
+  Config c = resolveConfig(text, applicationName, env, nullptr);
+  c.configFile = path;
+  return c;
+}
+
+std::string checkSetting(std::string_view key, std::string_view value) {
+  std::vector<std::string> messages;
+  {
+    MessageSink sink(&messages);
+    Config c;
+    const std::string k = lower(trim(key));
+    applyKey(c, k, trim(value), {"command line", k}, sink);
+  }
+  return messages.empty() ? std::string() : messages.front();
 }
 
 }  // namespace steadyxr::layer

@@ -29,7 +29,20 @@ struct Config {
   std::string dumpDir = "steadyxr-dump";
   bool jitter = false;     // inject a Halton sub-pixel jitter into xrLocateViews' fov
   std::string configFile;  // the file the values came from (empty: none)
+  // STEADYXR_ENABLED=0 or STEADYXR_DISABLE in the environment: the layer hooks nothing for the
+  // whole process (no live switching). `enabled = 0` in the file only passes frames through,
+  // so that the file can switch filtering back on while the app runs.
+  bool environmentDisabled = false;
 };
+
+// Limits on what the layer reads: a config is a few lines, and the layer is a guest in the
+// app's process (an unbounded read of /dev/zero grew an app to 2 GB).
+inline constexpr size_t kMaxConfigBytes = size_t{1} << 20;  // 1 MiB
+inline constexpr size_t kMaxConfigMessages = 10;            // then one line with the count
+
+// Reads a config file: regular files only, at most kMaxConfigBytes. Never blocks on a FIFO or
+// device. On failure returns nullopt and a message in *error.
+std::optional<std::string> readConfigFile(const std::string& path, std::string* error);
 
 // Raw key/value pairs of a config file: the global part and one map per [section].
 struct ConfigText {
@@ -57,6 +70,20 @@ Config resolveConfig(const ConfigText& text, std::string_view applicationName, c
 
 // Whole pipeline for the layer: find, read, parse, resolve.
 Config loadConfig(std::string_view applicationName, const EnvLookup& env, std::vector<std::string>* messages);
+
+// Reads and resolves `path` for a live reload. Returns nullopt when the file cannot be read or
+// has any problem (a bad value, an unknown key, a malformed line): a bad edit must not replace
+// good settings. *messages says why.
+std::optional<Config> reloadConfig(const std::string& path, std::string_view applicationName,
+                                   const EnvLookup& env, std::vector<std::string>* messages);
+
+// The per-user config file, whether or not it exists: $XDG_CONFIG_HOME/steadyxr/steadyxr.conf,
+// else $HOME/.config/steadyxr/steadyxr.conf. Empty when neither variable is set.
+std::string userConfigPath(const EnvLookup& env);
+
+// Checks one setting as the layer would read it. Returns an empty string when it is good, else
+// the message the layer would log.
+std::string checkSetting(std::string_view key, std::string_view value);
 
 // Keys the resolver knows (tests, documentation).
 std::vector<std::string> knownConfigKeys();
