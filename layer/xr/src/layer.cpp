@@ -257,7 +257,7 @@ XRAPI_ATTR XrResult XRAPI_CALL hookCreateVulkanInstanceKHR(XrInstance instance,
     const uint32_t asked =
         (appInfo == nullptr || appInfo->apiVersion == 0) ? VK_API_VERSION_1_0 : appInfo->apiVersion;
     XrResult r = XR_ERROR_RUNTIME_FAILURE;
-    if (inst->config.enabled && asked < VK_API_VERSION_1_1) {
+    if (!inst->config.environmentDisabled && asked < VK_API_VERSION_1_1) {
       VkApplicationInfo ai =
           appInfo ? *appInfo : makeVk<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
       ai.apiVersion = VK_API_VERSION_1_1;
@@ -313,7 +313,7 @@ XRAPI_ATTR XrResult XRAPI_CALL hookGetInstanceProcAddr(XrInstance instance, cons
     }
     const XrResult r = inst->next.getInstanceProcAddr(instance, name, function);
     // A disabled layer hooks nothing; functions the next layer lacks are not hooked either.
-    if (XR_FAILED(r) || *function == nullptr || !inst->config.enabled) return r;
+    if (XR_FAILED(r) || *function == nullptr || inst->config.environmentDisabled) return r;
     for (const Hook& h : kHooks) {
       if (std::strcmp(h.name, name) == 0) {
         *function = h.function;
@@ -322,6 +322,16 @@ XRAPI_ATTR XrResult XRAPI_CALL hookGetInstanceProcAddr(XrInstance instance, cons
     }
     return r;
   });
+}
+
+// Config file watching and the status file: a hooked instance only, and never fatal.
+void startLiveParts(InstanceState& state) {
+  state.live =
+      std::make_unique<LiveConfig>(state.config, state.applicationName, processEnvironment(), *state.log);
+  std::string error;
+  const char* runtimeDir = std::getenv("XDG_RUNTIME_DIR");
+  state.status = StatusFile::create(runtimeDir ? runtimeDir : "", &error);
+  if (!state.status) state.log->log(LogLevel::Info, "status: no status file (" + error + ")");
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL createApiLayerInstance(const XrInstanceCreateInfo* info,
@@ -347,7 +357,7 @@ XRAPI_ATTR XrResult XRAPI_CALL createApiLayerInstance(const XrInstanceCreateInfo
     // for the layer's own use; without it (runtime lacks it) create the instance as asked.
     XrResult r = XR_ERROR_EXTENSION_NOT_PRESENT;
     bool timespecAdded = false;
-    if (config.enabled && config.poseSource == PoseSourceKind::Imu) {
+    if (!config.environmentDisabled && config.poseSource == PoseSourceKind::Imu) {
       std::vector<const char*> exts(info->enabledExtensionNames,
                                     info->enabledExtensionNames + info->enabledExtensionCount);
       const bool present = std::any_of(exts.begin(), exts.end(), [](const char* e) {
@@ -374,13 +384,17 @@ XRAPI_ATTR XrResult XRAPI_CALL createApiLayerInstance(const XrInstanceCreateInfo
     if (!loadDispatch(*instance, nextGipa, &state->next)) {
       state->log->log(LogLevel::Error, "the next layer lacks core functions: the layer stays out of the way");
       state->config.enabled = false;
+      state->config.environmentDisabled = true;
       state->next.getInstanceProcAddr = nextGipa;
     }
     state->log->log(
         LogLevel::Info,
         std::string(kLayerName) + " loaded for '" + state->applicationName + "': " +
-            (state->config.enabled ? "enabled, method " + state->config.method : std::string("disabled")) +
+            (state->config.environmentDisabled ? std::string("disabled")
+             : state->config.enabled           ? "enabled, method " + state->config.method
+                                     : "loaded with enabled = 0 (frames pass through until it is 1)") +
             (state->config.configFile.empty() ? "" : ", config " + state->config.configFile));
+    if (!state->config.environmentDisabled) startLiveParts(*state);
     registry().addInstance(std::move(state));
     return r;
   });

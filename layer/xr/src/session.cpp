@@ -85,7 +85,8 @@ std::string SessionStats::summary() const {
   passedTotal -= warmingUp;
   os << "session summary: frames_filtered=" << framesFiltered << " left=" << viewsFiltered[0]
      << " right=" << viewsFiltered[1] << " frames_passed_through=" << passedTotal
-     << " frames_warming_up=" << warmingUp << " frames_empty=" << framesEmpty;
+     << " frames_warming_up=" << warmingUp << " frames_empty=" << framesEmpty
+     << " frames_disabled=" << framesDisabled;
   if (passedTotal > 0) {
     os << " (";
     bool first = true;
@@ -320,7 +321,7 @@ void Session::countUnfiltered(const XrFrameEndInfo& info) {
   std::lock_guard lock(mutex_);
   for (uint32_t i = 0; i < info.layerCount; ++i) {
     if (info.layers[i] != nullptr && info.layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
-      ++stats_.passed[static_cast<size_t>(failedReason_)];
+      ++(filtering_ ? stats_.framesDisabled : stats_.passed[static_cast<size_t>(failedReason_)]);
       return;
     }
   }
@@ -590,7 +591,9 @@ XrResult Session::locateViews(const XrViewLocateInfo* info, XrViewState* state, 
 }
 
 XrResult Session::endFrame(const XrFrameEndInfo* info) {
-  if (info == nullptr || !filtering_) {
+  applyLiveConfig();  // config file edits: enabled, method, pass parameters
+  publishStatus();    // about once a second
+  if (info == nullptr || !filtering_ || !liveEnabled_) {
     if (info != nullptr && vulkanSession_) countUnfiltered(*info);
     return next().endFrame(handle_, info);
   }

@@ -3,9 +3,11 @@
 #pragma once
 
 #include "config.h"
+#include "config_watch.h"
 #include "dump.h"
 #include "log.h"
 #include "rewrite.h"
+#include "status_file.h"
 #include "steadyxr/core/filter.h"
 #include "steadyxr/core/vulkan_context.h"
 #include "steadyxr/imu/imu_pose_source.h"
@@ -55,6 +57,8 @@ struct InstanceState {
   std::unique_ptr<Logger> log;
   std::string applicationName;
   uint32_t vulkanApiVersion = VK_API_VERSION_1_0;  // from xrCreateVulkanInstanceKHR when seen
+  std::unique_ptr<LiveConfig> live;                // edits of the config file while the app runs
+  std::unique_ptr<StatusFile> status;              // $XDG_RUNTIME_DIR/steadyxr/<pid>-<n>.status
 };
 
 // A swapchain the layer owns (its output images). Destroys itself through the next layer.
@@ -91,7 +95,8 @@ struct AppSwapchain {
 struct SessionStats {
   uint64_t framesFiltered = 0;
   std::array<uint64_t, 2> viewsFiltered{};
-  uint64_t framesEmpty = 0;  // no projection layer submitted (not rendering)
+  uint64_t framesEmpty = 0;     // no projection layer submitted (not rendering)
+  uint64_t framesDisabled = 0;  // passed through while `enabled = 0` (live switch)
   std::array<uint64_t, static_cast<size_t>(PassReason::Count)> passed{};
   uint64_t timingFrames = 0;
   double temporalMs = 0, stereoMs = 0, otherMs = 0, totalMs = 0;
@@ -140,6 +145,10 @@ class Session {
   void passed(PassReason reason, const std::string& detail);
   void countUnfiltered(const XrFrameEndInfo& info);
   std::string xrError(const char* what, XrResult r) const;
+  // Live settings and status (session_live.cpp).
+  void applyLiveConfig();
+  void publishStatus();
+  std::string statusText() const;
 
   std::shared_ptr<InstanceState> instance_;
   XrSession handle_;
@@ -163,9 +172,15 @@ class Session {
   bool mutableFormat_ = false;
   // jitter = on with a temporal method (the only ones that un-jitter the image): sub-pixel
   // Halton offsets injected into xrLocateViews' fov, undone in xrEndFrame.
-  bool jitter_ = false;
+  std::atomic<bool> jitter_ = false;  // read unlocked in xrLocateViews; a live method change sets it
   JitterTracker jitterTracker_;
   std::array<VkExtent2D, 2> viewSize_{};  // pixel size of each view's last filtered rect
+  // Live settings: the first frame applies the current ones (UINT64_MAX is no generation).
+  uint64_t liveGeneration_ = UINT64_MAX;
+  std::atomic<bool> liveEnabled_ = true;  // `enabled` from the config file
+  std::optional<Config> appliedConfig_;
+  int64_t lastStatusNs_ = 0;
+  bool statusDue_ = true;
 };
 
 }  // namespace steadyxr::layer

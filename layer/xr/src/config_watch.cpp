@@ -1,0 +1,217 @@
+#include "config_watch.h"
+
+#include <sys/inotify.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+#include <system_error>
+
+namespace steadyxr::layer {
+namespace {
+
+// Events that mean "the file now has new content": a writer closed it, or a finished file was
+// renamed into place. IN_MODIFY and IN_CREATE are left out on purpose: they fire before the
+// writer is done (`echo x > new.conf` creates an empty file first).
+constexpr uint32_t kFileEvents = IN_CLOSE_WRITE | IN_MOVED_TO;
+// The watched folder itself went away (removed or renamed): watch its parent again.
+constexpr uint32_t kFolderGone = IN_DELETE_SELF | IN_MOVE_SELF | IN_IGNORED;
+
+std::pair<std::string, std::string> splitPath(const std::string& path) {
+  const std::filesystem::path p(path);
+  std::string folder = p.parent_path().string();
+  return {folder.empty() ? std::string(".") : folder, p.filename().string()};
+}
+
+int64_t unixMsNow() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+std::string boolText(bool b) {
+  return b ? "1" : "0";
+}
+
+}  // namespace
+
+std::unique_ptr<ConfigWatcher> ConfigWatcher::create(const std::string& path, std::string* error) {
+  const int fd = ::inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+  if (fd < 0) {
+    if (error) *error = "inotify_init1 failed (" + std::generic_category().message(errno) + ")";
+    return nullptr;
+  }
+  // A symlinked config (dotfile managers) changes where the link points: watch the target.
+  std::error_code ec;
+  const std::filesystem::path resolved = std::filesystem::canonical(path, ec);
+  std::unique_ptr<ConfigWatcher> w(new ConfigWatcher(fd, ec ? path : resolved.string()));
+  if (!w->watchFolder()) {
+    if (error) *error = "neither '" + w->folder_ + "' nor its parent '" + w->parent_ + "' can be watched";
+    return nullptr;
+  }
+  return w;
+}
+
+ConfigWatcher::ConfigWatcher(int fd, std::string path) : fd_(fd), path_(std::move(path)) {
+  std::tie(folder_, name_) = splitPath(path_);
+  std::tie(parent_, folderName_) = splitPath(folder_);
+}
+
+ConfigWatcher::~ConfigWatcher() {
+  ::close(fd_);  // drops every watch
+}
+
+bool ConfigWatcher::watchFolder() {
+  folderWatch_ = ::inotify_add_watch(fd_, folder_.c_str(), kFileEvents | IN_DELETE_SELF | IN_MOVE_SELF);
+  if (folderWatch_ >= 0) return true;
+  if (parentWatch_ < 0) parentWatch_ = ::inotify_add_watch(fd_, parent_.c_str(), IN_CREATE | IN_MOVED_TO);
+  return parentWatch_ >= 0;
+}
+
+bool ConfigWatcher::changed() {
+  // inotify_event is variable-length; the buffer is aligned for it (inotify(7)).
+  alignas(inotify_event) char buffer[4096];
+  bool hit = false;
+  bool rearm = false;
+  for (;;) {
+    const ssize_t n = ::read(fd_, buffer, sizeof buffer);
+    if (n <= 0) break;  // EAGAIN: nothing (more) happened
+    for (ssize_t off = 0; off < n;) {
+      inotify_event event;
+      std::memcpy(&event, buffer + off, sizeof event);
+      const char* name = buffer + off + sizeof(inotify_event);
+      const bool named = event.len > 0;
+      if (event.wd == folderWatch_ && named && (event.mask & kFileEvents) && name_ == name) hit = true;
+      if (event.wd == folderWatch_ && (event.mask & kFolderGone)) rearm = true;
+      if (event.wd == parentWatch_ && named && folderName_ == name) rearm = true;
+      off += static_cast<ssize_t>(sizeof(inotify_event) + event.len);
+    }
+  }
+  if (rearm) {
+    if (folderWatch_ >= 0) ::inotify_rm_watch(fd_, folderWatch_);
+    folderWatch_ = -1;
+    watchFolder();
+    // The folder may have appeared with the file already in it (mkdir, then a rename, before
+    // the new watch existed).
+    std::error_code ec;
+    if (folderWatch_ >= 0 && std::filesystem::exists(path_, ec)) hit = true;
+  }
+  return hit;
+}
+
+std::string configWatchPath(const Config& config, const EnvLookup& env) {
+  if (!config.configFile.empty()) return config.configFile;
+  if (auto p = env("STEADYXR_CONFIG"); p && !p->empty()) return *p;
+  return userConfigPath(env);
+}
+
+std::string describeChanges(const Config& a, const Config& b, std::string* restartOnly) {
+  std::ostringstream live;
+  std::ostringstream later;
+  const auto note = [](std::ostringstream& os, const char* key, const std::string& from,
+                       const std::string& to) {
+    if (from == to) return;
+    os << (os.tellp() > 0 ? ", " : "") << key << " " << from << " -> " << to;
+  };
+  note(live, "enabled", boolText(a.enabled), boolText(b.enabled));
+  note(live, "method", a.method, b.method);
+  const core::Params& p = a.params;
+  const core::Params& q = b.params;
+  const bool paramsChanged =
+      p.taaAlpha != q.taaAlpha || p.taaClipGamma != q.taaClipGamma || p.hMaxDegPerSec != q.hMaxDegPerSec ||
+      p.wMin != q.wMin || p.wLowerBound != q.wLowerBound || p.vtaaAlphaMin != q.vtaaAlphaMin ||
+      p.stereoFarDistanceM != q.stereoFarDistanceM || p.stereoDepthTolerance != q.stereoDepthTolerance ||
+      p.stereoBetaMin != q.stereoBetaMin || p.resetAngleDeg != q.resetAngleDeg ||
+      p.resetTranslationM != q.resetTranslationM || p.sampleCount != q.sampleCount ||
+      p.historyFilter != q.historyFilter;
+  if (paramsChanged) live << (live.tellp() > 0 ? ", " : "") << "pass parameters";
+  note(live, "dump_frames", std::to_string(a.dumpFrames), std::to_string(b.dumpFrames));
+  note(live, "dump_dir", a.dumpDir, b.dumpDir);
+  note(later, "pose_source", a.poseSource == PoseSourceKind::Imu ? "imu" : "runtime",
+       b.poseSource == PoseSourceKind::Imu ? "imu" : "runtime");
+  note(later, "imu_device", a.imuDevice, b.imuDevice);
+  note(later, "log_level", std::string(toString(a.logLevel)), std::string(toString(b.logLevel)));
+  note(later, "log_file", a.logFile, b.logFile);
+  note(later, "jitter", boolText(a.jitter), boolText(b.jitter));
+  if (restartOnly) *restartOnly = later.str();
+  return live.str();
+}
+
+LiveConfig::LiveConfig(Config initial, std::string applicationName, EnvLookup env, Logger& log)
+    : current_(std::move(initial)),
+      applicationName_(std::move(applicationName)),
+      env_(std::move(env)),
+      log_(log) {
+  const std::string path = configWatchPath(current_, env_);
+  if (path.empty()) {
+    log_.log(LogLevel::Info, "config: no config file to watch (neither XDG_CONFIG_HOME nor HOME is set)");
+    return;
+  }
+  std::string error;
+  watcher_ = ConfigWatcher::create(path, &error);
+  if (!watcher_) {
+    log_.log(LogLevel::Warn,
+             "config: cannot watch '" + path + "' (" + error + "); edits apply at the next start");
+  } else {
+    log_.log(LogLevel::Debug, "config: watching '" + watcher_->path() + "' for edits");
+  }
+}
+
+void LiveConfig::poll() {
+  if (watcher_ && watcher_->changed()) reload();
+}
+
+void LiveConfig::reload() {
+  std::vector<std::string> messages;
+  std::optional<Config> next = reloadConfig(watcher_->path(), applicationName_, env_, &messages);
+  std::lock_guard lock(mutex_);
+  if (!next) {
+    for (const std::string& m : messages) log_.log(LogLevel::Warn, m);
+    log_.log(LogLevel::Warn,
+             "config: '" + watcher_->path() + "' not applied; keeping the last good settings");
+    return;
+  }
+  std::string restartOnly;
+  const std::string changes = describeChanges(current_, *next, &restartOnly);
+  // Read once at start: what the instance was created with stays (see describeChanges).
+  next->poseSource = current_.poseSource;
+  next->imuDevice = current_.imuDevice;
+  next->logLevel = current_.logLevel;
+  next->logFile = current_.logFile;
+  next->jitter = current_.jitter;
+  next->environmentDisabled = current_.environmentDisabled;
+  if (!restartOnly.empty()) {
+    log_.log(LogLevel::Warn, "config: " + restartOnly + " take effect at the app's next start");
+  }
+  if (changes.empty()) return;
+  current_ = *next;
+  ++generation_;
+  appliedUnixMs_ = unixMsNow();
+  log_.log(LogLevel::Info, "config: applied " + changes + " from '" + watcher_->path() + "'");
+}
+
+std::optional<Config> LiveConfig::takeUpdate(uint64_t* seen) {
+  std::lock_guard lock(mutex_);
+  if (*seen == generation_) return std::nullopt;
+  *seen = generation_;
+  return current_;
+}
+
+uint64_t LiveConfig::generation() const {
+  std::lock_guard lock(mutex_);
+  return generation_;
+}
+
+int64_t LiveConfig::appliedUnixMs() const {
+  std::lock_guard lock(mutex_);
+  return appliedUnixMs_;
+}
+
+std::string LiveConfig::watchedPath() const {
+  return watcher_ ? watcher_->path() : std::string();
+}
+
+}  // namespace steadyxr::layer
