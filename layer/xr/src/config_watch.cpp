@@ -49,7 +49,8 @@ std::unique_ptr<ConfigWatcher> ConfigWatcher::create(const std::string& path, st
   const std::filesystem::path resolved = std::filesystem::canonical(path, ec);
   std::unique_ptr<ConfigWatcher> w(new ConfigWatcher(fd, ec ? path : resolved.string()));
   if (!w->watchFolder()) {
-    if (error) *error = "neither '" + w->folder_ + "' nor its parent '" + w->parent_ + "' can be watched";
+    if (error)
+      *error = "'" + w->folder_ + "' and its parent '" + w->parent_ + "' cannot be watched (missing?)";
     return nullptr;
   }
   return w;
