@@ -124,7 +124,7 @@ TEST_F(Live, GoodEditsApplyBadOnesKeepTheLastGoodSettings) {
             std::string::npos)
       << read(logPath);
 
-  saveByRename(conf, "method = hmtaa\n");
+  saveByRename(conf, "method = hmtaa\npose_source = imu\n");  // a live key and a restart-only one
   live.poll();
   c = live.takeUpdate(&seen);
   ASSERT_TRUE(c);
