@@ -99,7 +99,8 @@ if ! chroot "$root" /usr/bin/env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin dpkg -i "
 fi
 echo "installed: $(chroot "$root" dpkg-query -W -f='${Package} ${Version} ${Status}' steadyxr)"
 chroot "$root" steadyxr --help >"$out/steadyxr-help.txt" 2>&1 || fail "steadyxr --help failed in the root"
-chroot "$root" steadyxr-imu-emu --help >"$out/imu-emu-help.txt" 2>&1 || fail "steadyxr-imu-emu --help failed in the root"
+chroot "$root" steadyxr-imu-emu --help >"$out/imu-emu-help.txt" 2>&1
+grep -q "usage: steadyxr-imu-emu" "$out/imu-emu-help.txt" || fail "steadyxr-imu-emu --help printed no usage in the root"
 chroot "$root" /usr/bin/env -i PATH=/usr/bin:/bin MANPAGER=cat man -P cat steadyxr >/dev/null 2>&1 ||
   [[ ! -x $root/usr/bin/man ]] || fail "man steadyxr failed"
 
@@ -127,7 +128,7 @@ pids+=("$app")
 listed=0
 for _ in $(seq $((seconds * 10))); do
   chroot "$root" /usr/bin/env -i "${env[@]}" steadyxr status >"$out/status.txt" 2>&1
-  if grep -q "hello_xr (pid [0-9]*): filtering" "$out/status.txt" && grep -qE "frames: [1-9][0-9]* filtered" "$out/status.txt"; then
+  if grep -q "HelloXR (pid [0-9]*): filtering" "$out/status.txt" && grep -qE "frames: [1-9][0-9]* filtered" "$out/status.txt"; then
     listed=1
     break
   fi
@@ -137,13 +138,13 @@ wait "$app"
 app_rc=$?
 echo "steadyxr status during the run:"
 sed 's/^/  /' "$out/status.txt"
-((listed == 1)) || fail "steadyxr status did not list a filtering hello_xr"
+((listed == 1)) || fail "steadyxr status did not list a filtering HelloXR"
 ((app_rc == 0)) || { tail -n 20 "$out/hello_xr.log"; fail "hello_xr exited $app_rc"; }
 summary=$(grep -a "session summary:" "$out/hello_xr.log" | tail -n 1)
 echo "layer: $summary"
 filtered=$(sed -n 's/.*frames_filtered=\([0-9]*\).*/\1/p' <<<"$summary")
 ((${filtered:-0} >= 20)) || fail "the installed implicit layer filtered ${filtered:-no} frames (want >= 20)"
-grep -aq "loaded for 'hello_xr'" "$out/hello_xr.log" || fail "the layer did not announce itself"
+grep -aq "loaded for 'HelloXR': enabled" "$out/hello_xr.log" || fail "the layer did not announce itself"
 left=$(ls -A "$root$dir/xdg/steadyxr" 2>/dev/null)
 [[ -z $left ]] || fail "status files left after the app exited: $left"
 cleanup_run() {

@@ -3,6 +3,7 @@
 #include "status_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -311,10 +312,14 @@ bool alive(const std::map<std::string, std::string>& status) {
   } catch (const std::exception&) {
     return false;
   }
-  const std::optional<uint64_t> ticks = layer::processStartTicks(id);
-  if (!ticks) return false;
   const auto recorded = status.find("process_start_ticks");
-  return recorded == status.end() || recorded->second == std::to_string(*ticks);  // else: pid reused
+  if (recorded != status.end()) {
+    if (const std::optional<uint64_t> ticks = layer::processStartTicks(id)) {
+      return recorded->second == std::to_string(*ticks);  // else: the pid was reused
+    }
+  }
+  // Without /proc (a chroot) or a recorded start time: whether the pid exists at all.
+  return id > 0 && (::kill(static_cast<pid_t>(id), 0) == 0 || errno == EPERM);
 }
 
 std::string field(const std::map<std::string, std::string>& s, const std::string& key,
