@@ -9,6 +9,7 @@ packages=(
   libglm-dev libhidapi-dev libgtest-dev libgmock-dev libstb-dev
   python3 python3-matplotlib python3-numpy python3-skimage
   debootstrap
+  dpkg-dev file  # the Debian package: CPack runs dpkg-shlibdeps on the files `file` finds to be ELF
 )
 missing=()
 for p in "${packages[@]}"; do
