@@ -5,7 +5,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -174,7 +173,6 @@ TEST(ConfigHardening, DirectoryIsRejectedAndNotAnnounced) {
 
 TEST(ConfigHardening, DeviceAndPipeAreRejectedWithoutReading) {
   std::vector<std::string> messages;
-  const auto start = std::chrono::steady_clock::now();
   const Config c = loadConfig("app", envOf({{"STEADYXR_CONFIG", "/dev/zero"}}), &messages);
   EXPECT_TRUE(mentions(messages, "/dev/zero", "not a regular file (a device, pipe or socket)"));
   EXPECT_TRUE(c.configFile.empty());
@@ -183,10 +181,9 @@ TEST(ConfigHardening, DeviceAndPipeAreRejectedWithoutReading) {
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   messages.clear();
   std::string error;
-  EXPECT_FALSE(readConfigFile(fifo, &error).has_value());  // returns at once: no writer is waited for
+  // Opening a FIFO without O_NONBLOCK would wait for a writer: the test would hang.
+  EXPECT_FALSE(readConfigFile(fifo, &error).has_value());
   EXPECT_NE(error.find("not a regular file"), std::string::npos) << error;
-  // /dev/zero read to the end would never return; a FIFO open would block.
-  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
 }
 
 TEST(ConfigHardening, SizeCap) {

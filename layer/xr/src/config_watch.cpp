@@ -86,6 +86,7 @@ bool ConfigWatcher::changed() {
       const char* name = buffer + off + sizeof(inotify_event);
       const bool named = event.len > 0;
       if (event.wd == folderWatch_ && named && (event.mask & kFileEvents) && name_ == name) hit = true;
+      if (event.mask & IN_Q_OVERFLOW) hit = true;  // events were lost: read the file to be sure
       if (event.wd == folderWatch_ && (event.mask & kFolderGone)) rearm = true;
       if (event.wd == parentWatch_ && named && folderName_ == name) rearm = true;
       off += static_cast<ssize_t>(sizeof(inotify_event) + event.len);
