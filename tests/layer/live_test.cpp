@@ -107,7 +107,8 @@ TEST_F(Live, GoodEditsApplyBadOnesKeepTheLastGoodSettings) {
   EXPECT_FLOAT_EQ(c->params.wMin, 0.5f);
   EXPECT_EQ(seen, 1u);
   EXPECT_GT(live.appliedUnixMs(), 0);
-  EXPECT_NE(read(logPath).find("config: applied enabled 1 -> 0, method taa -> none, pass parameters"),
+  EXPECT_NE(read(logPath).find(
+                "config: applied enabled (default) -> 0, method taa -> none, w_min (default) -> 0.5"),
             std::string::npos)
       << read(logPath);
 
@@ -120,7 +121,7 @@ TEST_F(Live, GoodEditsApplyBadOnesKeepTheLastGoodSettings) {
   saveByRename(conf, "method = none\nenabled = 0\nw_min = 0.5\npose_source = imu\n");  // restart-only key
   live.poll();
   EXPECT_FALSE(live.takeUpdate(&seen));
-  EXPECT_NE(read(logPath).find("pose_source runtime -> imu take effect at the app's next start"),
+  EXPECT_NE(read(logPath).find("pose_source (default) -> imu take effect at the app's next start"),
             std::string::npos)
       << read(logPath);
 
@@ -128,10 +129,19 @@ TEST_F(Live, GoodEditsApplyBadOnesKeepTheLastGoodSettings) {
   live.poll();
   c = live.takeUpdate(&seen);
   ASSERT_TRUE(c);
+  EXPECT_NE(read(logPath).find("config: applied enabled 0 -> (default), method none -> hmtaa, w_min 0.5 -> "
+                               "(default)"),
+            std::string::npos)
+      << read(logPath);
   EXPECT_EQ(c->method, "hmtaa");
   EXPECT_TRUE(c->enabled);
   EXPECT_EQ(c->poseSource, PoseSourceKind::Runtime);  // as the instance started
   EXPECT_EQ(live.generation(), 2u);
+  saveByRename(conf, "method = hmtaa\npose_source = imu\nstereo_beta_min = 0.6\n");  // one tunable alone
+  live.poll();
+  c = live.takeUpdate(&seen);
+  ASSERT_TRUE(c);
+  EXPECT_FLOAT_EQ(c->params.stereoBetaMin, 0.6f);
   uint64_t fresh = UINT64_MAX;  // a session created later gets the current settings
   EXPECT_EQ(live.takeUpdate(&fresh)->method, "hmtaa");
 }

@@ -440,8 +440,21 @@ Config loadConfig(std::string_view applicationName, const EnvLookup& env,
   return c;
 }
 
+std::map<std::string, std::string> effectiveSettings(const ConfigText& text, std::string_view applicationName,
+                                                     const EnvLookup& env) {
+  std::map<std::string, std::string> out = text.global;
+  if (auto it = text.sections.find(std::string(applicationName)); it != text.sections.end()) {
+    for (const auto& [k, v] : it->second) out[k] = v;
+  }
+  for (const std::string& key : knownConfigKeys()) {
+    if (auto v = env(envNameForKey(key))) out[key] = trim(*v);
+  }
+  return out;
+}
+
 std::optional<Config> reloadConfig(const std::string& path, std::string_view applicationName,
-                                   const EnvLookup& env, std::vector<std::string>* messages) {
+                                   const EnvLookup& env, std::vector<std::string>* messages,
+                                   std::map<std::string, std::string>* settings) {
   std::string error;
   const std::optional<std::string> content = readConfigFile(path, &error);
   if (!content) {
@@ -460,6 +473,7 @@ std::optional<Config> reloadConfig(const std::string& path, std::string_view app
   }
   Config c = resolveConfig(text, applicationName, env, nullptr);
   c.configFile = path;
+  if (settings) *settings = effectiveSettings(text, applicationName, env);
   return c;
 }
 

@@ -75,7 +75,14 @@ Config loadConfig(std::string_view applicationName, const EnvLookup& env, std::v
 // has any problem (a bad value, an unknown key, a malformed line): a bad edit must not replace
 // good settings. *messages says why.
 std::optional<Config> reloadConfig(const std::string& path, std::string_view applicationName,
-                                   const EnvLookup& env, std::vector<std::string>* messages);
+                                   const EnvLookup& env, std::vector<std::string>* messages,
+                                   std::map<std::string, std::string>* settings = nullptr);
+
+// The settings in effect for an application as the user wrote them (key -> value): the global
+// part, then its section, then STEADYXR_<KEY> variables. What changed between two of these is
+// what a live reload reports and applies, key by key, whatever keys the core grows.
+std::map<std::string, std::string> effectiveSettings(const ConfigText& text, std::string_view applicationName,
+                                                     const EnvLookup& env);
 
 // The per-user config file, whether or not it exists: $XDG_CONFIG_HOME/steadyxr/steadyxr.conf,
 // else $HOME/.config/steadyxr/steadyxr.conf. Empty when neither variable is set.

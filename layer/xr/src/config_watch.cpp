@@ -7,7 +7,7 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
-#include <sstream>
+#include <set>
 #include <system_error>
 
 namespace steadyxr::layer {
@@ -30,10 +30,6 @@ int64_t unixMsNow() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(
              std::chrono::system_clock::now().time_since_epoch())
       .count();
-}
-
-std::string boolText(bool b) {
-  return b ? "1" : "0";
 }
 
 }  // namespace
@@ -110,36 +106,26 @@ std::string configWatchPath(const Config& config, const EnvLookup& env) {
   return userConfigPath(env);
 }
 
-std::string describeChanges(const Config& a, const Config& b, std::string* restartOnly) {
-  std::ostringstream live;
-  std::ostringstream later;
-  const auto note = [](std::ostringstream& os, const char* key, const std::string& from,
-                       const std::string& to) {
-    if (from == to) return;
-    os << (os.tellp() > 0 ? ", " : "") << key << " " << from << " -> " << to;
-  };
-  note(live, "enabled", boolText(a.enabled), boolText(b.enabled));
-  note(live, "method", a.method, b.method);
-  const core::Params& p = a.params;
-  const core::Params& q = b.params;
-  const bool paramsChanged =
-      p.taaAlpha != q.taaAlpha || p.taaClipGamma != q.taaClipGamma || p.hMaxDegPerSec != q.hMaxDegPerSec ||
-      p.wMin != q.wMin || p.wLowerBound != q.wLowerBound || p.vtaaAlphaMin != q.vtaaAlphaMin ||
-      p.stereoFarDistanceM != q.stereoFarDistanceM || p.stereoDepthTolerance != q.stereoDepthTolerance ||
-      p.stereoBetaMin != q.stereoBetaMin || p.resetAngleDeg != q.resetAngleDeg ||
-      p.resetTranslationM != q.resetTranslationM || p.sampleCount != q.sampleCount ||
-      p.historyFilter != q.historyFilter;
-  if (paramsChanged) live << (live.tellp() > 0 ? ", " : "") << "pass parameters";
-  note(live, "dump_frames", std::to_string(a.dumpFrames), std::to_string(b.dumpFrames));
-  note(live, "dump_dir", a.dumpDir, b.dumpDir);
-  note(later, "pose_source", a.poseSource == PoseSourceKind::Imu ? "imu" : "runtime",
-       b.poseSource == PoseSourceKind::Imu ? "imu" : "runtime");
-  note(later, "imu_device", a.imuDevice, b.imuDevice);
-  note(later, "log_level", std::string(toString(a.logLevel)), std::string(toString(b.logLevel)));
-  note(later, "log_file", a.logFile, b.logFile);
-  note(later, "jitter", boolText(a.jitter), boolText(b.jitter));
-  if (restartOnly) *restartOnly = later.str();
-  return live.str();
+std::string describeChanges(const std::map<std::string, std::string>& before,
+                            const std::map<std::string, std::string>& after, std::string* restartOnly) {
+  static const std::set<std::string> kRestartOnly = {"pose_source", "imu_device", "log_level", "log_file",
+                                                     "jitter"};
+  std::set<std::string> keys;
+  for (const auto& kv : before) keys.insert(kv.first);
+  for (const auto& kv : after) keys.insert(kv.first);
+  std::string live;
+  std::string later;
+  for (const std::string& key : keys) {
+    const auto a = before.find(key);
+    const auto b = after.find(key);
+    const std::string from = a == before.end() ? "(default)" : a->second;
+    const std::string to = b == after.end() ? "(default)" : b->second;
+    if (from == to) continue;
+    std::string& list = kRestartOnly.count(key) ? later : live;
+    list += (list.empty() ? "" : ", ") + key + " " + from + " -> " + to;
+  }
+  if (restartOnly) *restartOnly = later;
+  return live;
 }
 
 LiveConfig::LiveConfig(Config initial, std::string applicationName, EnvLookup env, Logger& log)
@@ -147,6 +133,14 @@ LiveConfig::LiveConfig(Config initial, std::string applicationName, EnvLookup en
       applicationName_(std::move(applicationName)),
       env_(std::move(env)),
       log_(log) {
+  // The settings the instance started with, to tell later edits apart key by key.
+  ConfigText text;
+  if (!current_.configFile.empty()) {
+    if (std::optional<std::string> content = readConfigFile(current_.configFile, nullptr)) {
+      text = parseConfigText(*content, nullptr);
+    }
+  }
+  settings_ = effectiveSettings(text, applicationName_, env_);
   const std::string path = configWatchPath(current_, env_);
   if (path.empty()) {
     log_.log(LogLevel::Info, "config: no config file to watch (neither XDG_CONFIG_HOME nor HOME is set)");
@@ -168,7 +162,8 @@ void LiveConfig::poll() {
 
 void LiveConfig::reload() {
   std::vector<std::string> messages;
-  std::optional<Config> next = reloadConfig(watcher_->path(), applicationName_, env_, &messages);
+  std::map<std::string, std::string> settings;
+  std::optional<Config> next = reloadConfig(watcher_->path(), applicationName_, env_, &messages, &settings);
   std::lock_guard lock(mutex_);
   if (!next) {
     for (const std::string& m : messages) log_.log(LogLevel::Warn, m);
@@ -177,7 +172,8 @@ void LiveConfig::reload() {
     return;
   }
   std::string restartOnly;
-  const std::string changes = describeChanges(current_, *next, &restartOnly);
+  const std::string changes = describeChanges(settings_, settings, &restartOnly);
+  settings_ = std::move(settings);
   // Read once at start: what the instance was created with stays (see describeChanges).
   next->poseSource = current_.poseSource;
   next->imuDevice = current_.imuDevice;

@@ -6,6 +6,7 @@
 #include "log.h"
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -68,6 +69,7 @@ class LiveConfig {
 
   mutable std::mutex mutex_;
   Config current_;
+  std::map<std::string, std::string> settings_;  // effectiveSettings() of the file last read
   std::string applicationName_;
   EnvLookup env_;
   Logger& log_;
@@ -76,8 +78,10 @@ class LiveConfig {
   int64_t appliedUnixMs_ = 0;
 };
 
-// What changed between two configs, in the user's keys ("method taa -> none, enabled 1 -> 0");
-// `restartOnly` gets the changed keys that take effect only at the app's next start.
-std::string describeChanges(const Config& before, const Config& after, std::string* restartOnly);
+// What changed between two effectiveSettings(), in the user's keys and values ("enabled 1 -> 0,
+// method taa -> none, w_min (default) -> 0.5"); `restartOnly` gets the changed keys that take
+// effect only at the app's next start (pose_source, imu_device, log_level, log_file, jitter).
+std::string describeChanges(const std::map<std::string, std::string>& before,
+                            const std::map<std::string, std::string>& after, std::string* restartOnly);
 
 }  // namespace steadyxr::layer
