@@ -16,7 +16,8 @@
 namespace {
 
 constexpr const char* kUsage = R"(usage: steadyxr-imu-emu [options]
-  --motion NAME        fixation | pursuit | fastturn | sequence | trace:PATH   (default fixation)
+  --motion NAME        a preset (--list-motions) or trace:PATH                 (default fixation)
+  --list-motions       print the motion presets with their parameters and exit
   --seed N             deterministic seed (default 1)
   --duration SEC       default: the motion's natural length
   --rate HZ            sample rate (default 1000)
@@ -38,7 +39,7 @@ struct Options {
   double gyroNoise = 0.0, accelNoise = 0.0;
   uint32_t tsStart = 0;
   int realtime = -1;  // -1: by transport
-  bool printDescriptor = false;
+  bool printDescriptor = false, listMotions = false;
 };
 
 bool parse(int argc, char** argv, Options* o) {
@@ -52,6 +53,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->realtime = 0;
     else if (a == "--print-descriptor")
       o->printDescriptor = true;
+    else if (a == "--list-motions")
+      o->listMotions = true;
     else if (a == "-h" || a == "--help")
       return false;
     else if (!(v = value()))
@@ -98,6 +101,12 @@ int main(int argc, char** argv) {
   if (o.printDescriptor) {
     for (const uint8_t b : hid::reportDescriptor()) std::printf("%02x ", b);
     std::printf("\n");
+    return 0;
+  }
+  if (o.listMotions) {
+    for (const MotionPreset& p : motionPresets())
+      std::printf("%-22s %-12s %s%s\n", p.name.c_str(), p.motionClass.c_str(), p.summary.c_str(),
+                  p.inCorpus ? "" : "  (not in the corpus)");
     return 0;
   }
   if (o.out.empty() || o.rate <= 0.0) {
