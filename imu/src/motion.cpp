@@ -33,7 +33,8 @@ class Fixation final : public PoseStream {
     jitter_ = Jitter(j, seed);
     Rng rng(seed ^ 0x5ACCADEull);
     if (p.jumpsPerSec > 0.0 && p.jumpAmplitudeDeg != 0.0) {
-      for (double t = rng.exponential(p.jumpsPerSec); t < p.durationSec; t += rng.exponential(p.jumpsPerSec)) {
+      for (double t = rng.exponential(p.jumpsPerSec); t < p.durationSec;
+           t += rng.exponential(p.jumpsPerSec)) {
         jumps_.push_back({t, std::max(p.jumpRampSec, 1e-3),
                           rng.unitVector() * (p.jumpAmplitudeDeg * rng.uniform(0.5, 1.5))});
         if (jumps_.size() > 100000) break;
@@ -147,7 +148,8 @@ class Sequence final : public MotionStream {
       for (double t : parts_[i]->motionChangeTimes())
         if (t <= segments_[i].duration + 1e-9) out.push_back(segments_[i].start + t);
     std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end(), [](double a, double b) { return b - a < 1e-6; }), out.end());
+    out.erase(std::unique(out.begin(), out.end(), [](double a, double b) { return b - a < 1e-6; }),
+              out.end());
     return out;
   }
   std::string describe() const override {

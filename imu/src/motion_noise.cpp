@@ -112,7 +112,8 @@ double BandNoise::at(double t) const {
   const long long i = ((static_cast<long long>(fl) % n) + n) % n;
   const double p0 = v_[(i + n - 1) % n], p1 = v_[i], p2 = v_[(i + 1) % n], p3 = v_[(i + 2) % n];
   // Catmull-Rom: passes through the samples, continuous first derivative.
-  return p1 + 0.5 * f * (p2 - p0 + f * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3 + f * (3.0 * (p1 - p2) + p3 - p0)));
+  return p1 +
+         0.5 * f * (p2 - p0 + f * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3 + f * (3.0 * (p1 - p2) + p3 - p0)));
 }
 
 Jitter::Jitter(const JitterParams& p, uint64_t seed) {

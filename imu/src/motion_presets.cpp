@@ -74,7 +74,8 @@ class Scripted final : public PoseStream {
     }
     dquat q = fromRotationVector(deg * kDegToRad);
     for (const TurnSegment& s : turns) {
-      const double a = rampedTurnAngle(t - s.start, s.duration, s.rampIn, s.rampOut, s.speedDegPerSec * kDegToRad);
+      const double a =
+          rampedTurnAngle(t - s.start, s.duration, s.rampIn, s.rampOut, s.speedDegPerSec * kDegToRad);
       q = glm::angleAxis(a, s.axis) * q;
     }
     return {q, neckTranslation(q) + p};
@@ -82,7 +83,8 @@ class Scripted final : public PoseStream {
   double durationSec() const override { return duration_; }
   std::vector<double> motionChangeTimes() const override { return changes; }
   std::string describe() const override {
-    return name_ + "(" + details + formatText(", %.1fs seed %llu)", duration_, static_cast<unsigned long long>(seed_));
+    return name_ + "(" + details +
+           formatText(", %.1fs seed %llu)", duration_, static_cast<unsigned long long>(seed_));
   }
 
  private:
@@ -134,7 +136,8 @@ std::unique_ptr<MotionStream> sway(uint64_t seed) {
   Rng rng = presetRng(seed, 0x5A7);
   const double f = rng.uniform(0.25, 0.35), yaw = rng.uniform(4.0, 8.0), pitch = rng.uniform(1.0, 3.0);
   const double side = rng.uniform(1.0, 3.0) * 1e-2;
-  s->oscillations.push_back({f, rng.uniform(0.0, 2.0 * std::numbers::pi), {pitch, yaw, 0.0}, {side, 0.0, 0.0}});
+  s->oscillations.push_back(
+      {f, rng.uniform(0.0, 2.0 * std::numbers::pi), {pitch, yaw, 0.0}, {side, 0.0, 0.0}});
   s->details = formatText("%.2fHz, %.1fdeg yaw / %.1fdeg pitch / %.1fcm side peak to peak, tremor 1x", f, yaw,
                           pitch, side * 100.0);
   return s;
@@ -166,7 +169,8 @@ std::unique_ptr<MotionStream> pursuits(const char* name, int count, uint64_t see
 // A turn at t = 0 as the original presets (same timing) with tremor on top.
 std::unique_ptr<MotionStream> turnWithTremor(const char* name, const TurnParams& p, uint64_t seed) {
   auto s = std::make_unique<Scripted>(name, seed, p.durationSec, 1.0);
-  s->turns.push_back({0.0, p.durationSec, p.rampSec, p.rampSec, p.peakSpeedDegPerSec, glm::normalize(dvec3(p.axis))});
+  s->turns.push_back(
+      {0.0, p.durationSec, p.rampSec, p.rampSec, p.peakSpeedDegPerSec, glm::normalize(dvec3(p.axis))});
   s->changes = {0.0, p.durationSec};
   s->details = formatText("%.0fdeg/s for %.2fs, ramps %.2fs, tremor 1x", p.peakSpeedDegPerSec, p.durationSec,
                           p.rampSec);
@@ -189,9 +193,10 @@ std::unique_ptr<MotionStream> walk(uint64_t seed) {
   s->gaitPhase = BandNoise(rng, 20.0, 12.0, 0.0, 0.3, 1);
   s->gaitAmplitudeRms = 0.05;
   s->gaitPhaseRmsRad = 0.3;
-  s->details = formatText("%.2f steps/s, bob %.1fcm / side %.1fcm peak to peak, pitch %.1f yaw %.1f roll %.1fdeg, "
-                          "tremor 1x",
-                          step, bob * 100.0, side * 100.0, pitch, yaw, roll);
+  s->details = formatText(
+      "%.2f steps/s, bob %.1fcm / side %.1fcm peak to peak, pitch %.1f yaw %.1f roll %.1fdeg, "
+      "tremor 1x",
+      step, bob * 100.0, side * 100.0, pitch, yaw, roll);
   return s;
 }
 
@@ -207,7 +212,8 @@ std::unique_ptr<MotionStream> lean(uint64_t seed) {
   {  // then sideways, rolling towards that side (right ear down is negative about +Z)
     const double side = rng.uniform() < 0.5 ? -1.0 : 1.0;
     const double d = rng.uniform(0.10, 0.20);
-    leans.push_back({t, rng.uniform(1.0, 2.0), {side * d, -0.2 * d, 0.0}, {0.0, 0.0, -side * rng.uniform(5.0, 10.0)}});
+    leans.push_back(
+        {t, rng.uniform(1.0, 2.0), {side * d, -0.2 * d, 0.0}, {0.0, 0.0, -side * rng.uniform(5.0, 10.0)}});
     t += leans.back().duration;
   }
   auto s = std::make_unique<Scripted>("lean", seed, t + 1.0, 1.0);
@@ -240,18 +246,22 @@ std::unique_ptr<MotionStream> sequence(uint64_t seed) {
 
 const std::vector<MotionPreset>& motionPresets() {
   static const std::vector<MotionPreset> presets = {
-      {"tremor-0.5x", "still", "tremor 0.01 deg RMS/axis (8-12 Hz filtered noise) + 0.1 deg/s drift, 10 s", true},
+      {"tremor-0.5x", "still", "tremor 0.01 deg RMS/axis (8-12 Hz filtered noise) + 0.1 deg/s drift, 10 s",
+       true},
       {"tremor-1x", "still", "tremor 0.02 deg RMS/axis + drift, 10 s", true},
       {"tremor-2x", "still", "tremor 0.04 deg RMS/axis + drift, 10 s", true},
       {"microsaccades", "saccade", "0.2-0.5 deg jumps every 0.5-1 s (20-40 ms), tremor 1x, 6 s", true},
-      {"sway", "sway", "0.25-0.35 Hz, 4-8 deg yaw, 1-3 deg pitch, 1-3 cm side (peak to peak), tremor 1x, 8 s", true},
-      {"pursuit-hold", "pursuit", "0.5 s still, 15-30 deg/s for 1-1.5 s, 0.1 s stop, 2 s hold, tremor 1x", true},
+      {"sway", "sway", "0.25-0.35 Hz, 4-8 deg yaw, 1-3 deg pitch, 1-3 cm side (peak to peak), tremor 1x, 8 s",
+       true},
+      {"pursuit-hold", "pursuit", "0.5 s still, 15-30 deg/s for 1-1.5 s, 0.1 s stop, 2 s hold, tremor 1x",
+       true},
       {"pursuit-stop-pursuit", "pursuit", "two 15-30 deg/s pursuits with a 0.4-0.8 s stop between, tremor 1x",
        true},
       {"fastturn", "turn", "200 deg/s, 90 deg, 0.15 s ramps, from t = 0, tremor 1x", true},
       {"walk", "translation",
        "walking in place: 1.8-2 steps/s, bob 3-4 cm, side 2-3 cm, 1-2 deg rotations, tremor 1x, 8 s", true},
-      {"lean", "translation", "lean forward then sideways, 10-20 cm over 1-2 s each, 5-10 deg pitch/roll", true},
+      {"lean", "translation", "lean forward then sideways, 10-20 cm over 1-2 s each, 5-10 deg pitch/roll",
+       true},
       {"fixation", "still", "tremor 1x + drift + Poisson-timed 0.075-0.225 deg jumps (0.2/s), 10 s", false},
       {"pursuit", "pursuit", "20 deg/s for 3 s, 0.3 s ramps, from t = 0, tremor 1x", false},
       {"sequence", "mixed", "fixation 2 s, pursuit 2 s, fixation 2 s, fast turn, fixation 2 s", false},

@@ -75,7 +75,8 @@ double peakToPeak(const std::vector<double>& x) {
 }
 
 std::vector<double> speedsDeg(const MotionStream& s, double from, double to) {
-  return sample(s, from, to, [](const MotionState& m) { return glm::length(m.angularVelocityRadPerSec) * kRadToDeg; });
+  return sample(s, from, to,
+                [](const MotionState& m) { return glm::length(m.angularVelocityRadPerSec) * kRadToDeg; });
 }
 
 }  // namespace
@@ -125,8 +126,7 @@ TEST(MotionPresets, TremorIsBandLimitedNoiseWithTheDocumentedAmplitudes) {
   const auto x1 = preset("tremor-1x", 5), x2 = preset("tremor-2x", 5), xh = preset("tremor-0.5x", 5);
   double speedRms[3];
   int i = 0;
-  for (const auto* s : {xh.get(), x1.get(), x2.get()})
-    speedRms[i++] = rms(speedsDeg(*s, 0.0, 10.0));
+  for (const auto* s : {xh.get(), x1.get(), x2.get()}) speedRms[i++] = rms(speedsDeg(*s, 0.0, 10.0));
   std::printf("tremor angular speed RMS: 0.5x %.3f, 1x %.3f, 2x %.3f deg/s\n", speedRms[0], speedRms[1],
               speedRms[2]);
   EXPECT_NEAR(speedRms[2] / speedRms[1], 2.0, 0.1);
@@ -134,9 +134,11 @@ TEST(MotionPresets, TremorIsBandLimitedNoiseWithTheDocumentedAmplitudes) {
   for (int axis = 0; axis < 3; ++axis) {
     // Angular velocity spectrum: most power in 8-12 Hz. 8th-order Butterworth edges at 8 and 12 Hz
     // with the f^2 of a derivative put 74 % there in expectation; the drift's share is ~0.5 %.
-    const auto w = sample(*x1, 0.0, 10.0, [&](const MotionState& m) { return double(m.angularVelocityRadPerSec[axis]); });
+    const auto w = sample(*x1, 0.0, 10.0,
+                          [&](const MotionState& m) { return double(m.angularVelocityRadPerSec[axis]); });
     const double inBand = bandFraction(w, 8.0, 12.0);
-    std::printf("tremor-1x axis %d: %.1f %% of the angular-velocity power in 8-12 Hz\n", axis, 100.0 * inBand);
+    std::printf("tremor-1x axis %d: %.1f %% of the angular-velocity power in 8-12 Hz\n", axis,
+                100.0 * inBand);
     EXPECT_GT(inBand, 0.6) << axis;
   }
   // Angle RMS of the tremor: the 1x minus the 0.5x of the same seed is 0.5x of pure tremor
@@ -161,7 +163,8 @@ TEST(MotionPresets, MicrosaccadesJumpByTheDocumentedSizesAndIntervals) {
   }
   for (double tj : t) {
     // Over 50 ms around the jump: the jump (0.2-0.5 deg) plus a little tremor and drift.
-    const double jump = angleDeg(glm::dquat(s->at(tj - 0.005).orientation), glm::dquat(s->at(tj + 0.045).orientation));
+    const double jump =
+        angleDeg(glm::dquat(s->at(tj - 0.005).orientation), glm::dquat(s->at(tj + 0.045).orientation));
     EXPECT_GT(jump, 0.15) << tj;
     EXPECT_LT(jump, 0.56) << tj;
     // Fast: peak speed of a 0.2-0.5 deg smootherstep over 20-40 ms is 9-47 deg/s.
@@ -210,7 +213,8 @@ TEST(MotionPresets, WalkBobsAtTheStepRate) {
     const auto x = sample(*s, 0.0, 8.0, [](const MotionState& m) { return double(m.position.x); });
     const double stepHz = peakHz(y, 1.0, 3.0, 0.02), strideHz = peakHz(x, 0.5, 1.5, 0.02);
     std::printf("walk seed %llu: vertical %.1f cm peak to peak at %.2f Hz, lateral %.1f cm at %.2f Hz\n",
-                static_cast<unsigned long long>(seed), peakToPeak(y) * 100, stepHz, peakToPeak(x) * 100, strideHz);
+                static_cast<unsigned long long>(seed), peakToPeak(y) * 100, stepHz, peakToPeak(x) * 100,
+                strideHz);
     // Documented: 3-4 cm bob at 1.8-2 steps/s, 2-3 cm side sway at half that; the gait variability
     // (5 % amplitude) and the neck pivot's share of the 1-2 deg rotations widen the bounds a little.
     EXPECT_GT(peakToPeak(y), 0.027);
@@ -254,6 +258,6 @@ TEST(MotionPresets, SwayIsSlowAndAFewDegrees) {
   std::printf("sway: yaw %.1f deg peak to peak at %.2f Hz\n", peakToPeak(yaw), f);
   EXPECT_GT(peakToPeak(yaw), 3.5);
   EXPECT_LT(peakToPeak(yaw), 9.0);  // 4-8 deg documented, plus tremor and drift
-  EXPECT_GE(f, 0.2);  // 0.25-0.35 Hz, resolved to 1/8 s over the 8 s window
+  EXPECT_GE(f, 0.2);                // 0.25-0.35 Hz, resolved to 1/8 s over the 8 s window
   EXPECT_LE(f, 0.4);
 }

@@ -57,8 +57,9 @@ struct TurnParams {
 };
 
 std::unique_ptr<MotionStream> makeFixation(const FixationParams& p, uint64_t seed);
-std::unique_ptr<MotionStream> makePursuit(const TurnParams& p, uint64_t seed);    // default 20 deg/s
-std::unique_ptr<MotionStream> makeFastTurn(const TurnParams& p, uint64_t seed);   // default params -> 200 deg/s
+std::unique_ptr<MotionStream> makePursuit(const TurnParams& p, uint64_t seed);  // default 20 deg/s
+std::unique_ptr<MotionStream> makeFastTurn(const TurnParams& p,
+                                           uint64_t seed);  // default params -> 200 deg/s
 // Concatenates streams; each segment starts from where the previous one ended.
 std::unique_ptr<MotionStream> makeSequence(std::vector<std::unique_ptr<MotionStream>> parts);
 // Trace file (CSV): header line then rows of
