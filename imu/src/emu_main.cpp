@@ -121,6 +121,11 @@ int main(int argc, char** argv) {
     return 1;
   }
   const double duration = o.duration >= 0.0 ? o.duration : stream->durationSec();
+  if (duration > stream->validUntilSec() + 1e-9) {  // a trace would silently hold its last pose
+    std::fprintf(stderr, "steadyxr-imu-emu: %s ends at %.3f s, shorter than the requested %.3f s\n",
+                 stream->describe().c_str(), stream->validUntilSec(), duration);
+    return 1;
+  }
   if (!o.truth.empty() &&
       !writeTrace(*stream, o.truthRate > 0 ? o.truthRate : o.rate, duration, o.truth, &error)) {
     std::fprintf(stderr, "steadyxr-imu-emu: %s\n", error.c_str());

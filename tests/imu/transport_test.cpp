@@ -200,6 +200,11 @@ TEST(Emulator, ProgramWritesReportsAndAReplayableGroundTruth) {
   std::printf("emulator program -> file -> reader vs its ground-truth CSV: max error %.4f deg\n", maxErr);
   EXPECT_LT(maxErr, 0.05);
   EXPECT_EQ(src->stats().parser.timestampWraps, 1u);
+  // Replaying the ground truth: as long as the trace is fine; longer is an error, not a held pose.
+  const std::string replay =
+      std::string(STEADYXR_IMU_EMU) + " --motion trace:" + truth + " --out file:/dev/null";
+  EXPECT_EQ(std::system((replay + " --duration 6 2>/dev/null").c_str()), 0);
+  EXPECT_NE(std::system((replay + " --duration 6.01 2>/dev/null").c_str()), 0);
   // Bad arguments: usage and a non-zero exit.
   EXPECT_NE(
       std::system(
