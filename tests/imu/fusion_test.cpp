@@ -163,16 +163,19 @@ TEST(Fusion, AccuracyWithTheSensorModel) {
   // own error without noise is up to 0.06 deg in the first seconds, see above). When
   // the head turns, the head-frame bias turns with it while the estimate follows at the filter's
   // 0.5 /s: up to twice the bias's tilt for a while.
+  // The motions of the tests above (same seeds), so the figures sit beside the noiseless ones.
   struct Case {
     const char* what;
     std::unique_ptr<MotionStream> m;
     double from, tiltFactor;
+    double plateauDegPerSec = 0.0, plateauFrom = 0.0, plateauTo = 0.0;  // head speed check
   };
   std::vector<Case> cases;
   for (uint64_t seed : {1, 2, 3}) cases.push_back({"fixation", makeFixation({}, seed), 5.0, 1.0});
-  cases.push_back(
-      {"fast turn after 5 s", afterFixation(makeFastTurn(fastTurnDefaults(), 1), 1), kHoldSec, 2.0});
-  cases.push_back({"pursuit after 5 s", afterFixation(makePursuit({}, 1), 2), kHoldSec, 2.0});
+  cases.push_back({"fast turn after 5 s", afterFixation(makeFastTurn(fastTurnDefaults(), 1), 1), kHoldSec,
+                   2.0, 200.0, kHoldSec + 0.3, kHoldSec + 0.45});
+  cases.push_back({"pursuit after 5 s", afterFixation(makePursuit({}, 1), 2), kHoldSec, 2.0, 20.0,
+                   kHoldSec + 0.5, kHoldSec + 2.7});
   uint64_t seed = 10;
   for (const Case& c : cases) {
     EmulatorParams p;
@@ -185,20 +188,25 @@ TEST(Fusion, AccuracyWithTheSensorModel) {
     const double tiltBound =
         c.tiltFactor * std::atan(std::hypot(ab.x, ab.z) / 9.80665) * 180.0 / 3.14159265358979323846;
     const double yawBound = std::abs(gb.y) * c.m->durationSec() * 180.0 / 3.14159265358979323846;
-    double maxTilt = 0.0, maxErr = 0.0;
+    double maxTilt = 0.0, maxErr = 0.0, speedErr = 0.0;
     for (const auto& f : pipe.out) {
       const double t = static_cast<double>(f.timeNs) * 1e-9;
       if (t < c.from) continue;
       const glm::dquat truth(c.m->at(t).orientation);
       maxTilt = std::max(maxTilt, tiltErrorDeg(f.orientation, truth));
       maxErr = std::max(maxErr, angleDeg(f.orientation, truth));
+      if (t > c.plateauFrom && t < c.plateauTo)
+        speedErr = std::max(speedErr, std::abs(f.headSpeedDegPerSec / c.plateauDegPerSec - 1.0));
     }
     std::printf(
-        "%s with the sensor model (seed %llu): max error from %.0f s %.3f deg (tilt %.3f deg; bounds: accel "
-        "bias tilt %.3f, yaw bias drift %.3f deg)\n",
-        c.what, static_cast<unsigned long long>(p.seed), c.from, maxErr, maxTilt, tiltBound, yawBound);
+        "%s with the sensor model (seed %llu): max error from %.0f s %.3f deg, at the end %.3f deg (tilt "
+        "%.3f deg; bounds: accel bias tilt %.3f, yaw bias drift %.3f deg), plateau speed error %.3f %%\n",
+        c.what, static_cast<unsigned long long>(p.seed), c.from, maxErr,
+        angleDeg(pipe.out.back().orientation, glm::dquat(c.m->at(pipe.out.back().timeNs * 1e-9).orientation)),
+        maxTilt, tiltBound, yawBound, speedErr * 100.0);
     EXPECT_LE(maxTilt, tiltBound + 0.1) << c.what;
     EXPECT_LE(maxErr, tiltBound + yawBound + 0.1) << c.what;
+    EXPECT_LE(speedErr, 0.05) << c.what;
   }
 }
 
