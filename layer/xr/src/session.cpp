@@ -175,7 +175,10 @@ void Session::openImu() {
   std::snprintf(defaultSpec, sizeof defaultSpec, "hid:%04x:%04x", imu::hid::kVendorId, imu::hid::kProductId);
   const std::string spec = device == "auto" ? std::string(defaultSpec) : device;
   std::string error;
-  imu_ = imu::openImuPoseSource(spec, &error);
+  Logger* log = instance_->log.get();  // outlives imu_ (the instance state outlives its sessions)
+  imu_ = imu::openImuPoseSource(spec, &error, [log](const std::string& line) {
+    log->log(LogLevel::Warn, "pose_source = imu: " + line);
+  });
   if (!imu_) {
     instance_->log->log(LogLevel::Warn, "pose_source = imu: cannot open '" + spec + "' (" + error +
                                             "); head speed comes from the runtime's poses");
