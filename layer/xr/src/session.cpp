@@ -296,7 +296,9 @@ XrResult Session::createSwapchain(const XrSwapchainCreateInfo* info, XrSwapchain
   // SAMPLED is added only where the device can sample the image as the app asked for it.
   // Where it cannot (the app's own usage, format or size is unsupported), the request goes to
   // the runtime exactly as the app made it, once, and the runtime's answer is the app's.
-  const XrSwapchainUsageFlags wanted = appSwapchainUsage(info->usageFlags);
+  // dump_frames > 0 also reads the app's images back (a copy needs TRANSFER_SRC usage).
+  const XrSwapchainUsageFlags wanted =
+      appSwapchainUsage(info->usageFlags) | (dumper_.wants() ? XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT : 0);
   const bool addSampled =
       isReadableSwapchain(*info) && wanted != info->usageFlags && deviceSupports(*info, wanted);
   XrSwapchainCreateInfo ours = *info;
