@@ -45,7 +45,13 @@ class Xr {
   uint32_t instanceApiVersion = 0;
 
  private:
-  struct Swapchain;
+  struct Swapchain {
+    XrSwapchain handle = XR_NULL_HANDLE;
+    std::vector<VkImage> images;
+    VkFormat format = VK_FORMAT_UNDEFINED;
+    uint32_t width = 0, height = 0, layers = 1;
+    bool depth = false;
+  };
   bool initVulkanV2();
   bool initVulkanV1();
   bool pollUntil(XrSessionState want, XrSession session, int timeoutMs);
