@@ -298,7 +298,8 @@ XrResult Session::createSwapchain(const XrSwapchainCreateInfo* info, XrSwapchain
   // the runtime exactly as the app made it, once, and the runtime's answer is the app's.
   // dump_frames > 0 also reads the app's images back (a copy needs TRANSFER_SRC usage).
   const XrSwapchainUsageFlags wanted =
-      appSwapchainUsage(info->usageFlags) | (dumper_.wants() ? XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT : 0);
+      appSwapchainUsage(info->usageFlags) |
+      (instance_->config.dumpFrames > 0 ? XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT : 0);
   const bool addSampled =
       isReadableSwapchain(*info) && wanted != info->usageFlags && deviceSupports(*info, wanted);
   XrSwapchainCreateInfo ours = *info;
