@@ -24,7 +24,8 @@ struct Image {
   std::vector<unsigned char> rgba;
   int diff(const Image& o, size_t p, int channels = 3) const {
     int m = 0;
-    for (int c = 0; c < channels; ++c) m = std::max(m, std::abs(int(rgba[p * 4 + c]) - int(o.rgba[p * 4 + c])));
+    for (int c = 0; c < channels; ++c)
+      m = std::max(m, std::abs(int(rgba[p * 4 + c]) - int(o.rgba[p * 4 + c])));
     return m;
   }
 };

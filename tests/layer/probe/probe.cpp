@@ -131,7 +131,8 @@ int run(const Options& o) {
       const long passed = counter(summary, "frames_passed_through");
       const long warming = counter(summary, "frames_warming_up");
       char buf[160];
-      std::snprintf(buf, sizeof buf, " layer: filtered=%ld warming_up=%ld passed=%ld", filtered, warming, passed);
+      std::snprintf(buf, sizeof buf, " layer: filtered=%ld warming_up=%ld passed=%ld", filtered, warming,
+                    passed);
       detail += buf;
       if (spec.expectFiltered) {
         // Pipelines compile in the background: the first frames of a session pass through as
