@@ -189,8 +189,19 @@ float linearToSrgb1(float c) {
   return c <= 0.0031308 ? c * 12.92 : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
 }
 
-void writeOutput(ivec2 p, vec3 c) {
-  vec4 o = vec4(c, 1.0);
+// Alpha is carried through, never filtered: the filters remove colour aliasing, and a
+// projection layer's alpha is a blend/passthrough mask, not colour. Averaged over time or taken
+// from the other eye it would smear the mask's edges or leak one eye's mask into the other, and a
+// layer's alpha must reach the compositor exactly as the app wrote it. So every pass outputs
+// src0's alpha at the same pixel: the app's input, or in the stereo pass after a temporal/FXAA
+// pass this frame's history, whose alpha is the input's (writeHistory). 8-bit and half-float
+// alpha survive the half-float history exactly. (Unpremultiplied layers: layer/xr/README.md.)
+float alphaOf(ivec2 p) { return texelFetch(uSrc0, P.src0Rect.xy + clamp(p, ivec2(0), P.src0Rect.zw - 1), 0).a; }
+
+void writeHistory(ivec2 p, vec3 c) { imageStore(uHistOut, p, vec4(c, alphaOf(p))); }
+
+// o: linear RGBA; encoded for an sRGB target (alpha is linear in every format, never encoded).
+void storeOutput(ivec2 p, vec4 o) {
   if (kEncodeSrgb) {
     o.rgb = clamp(o.rgb, 0.0, 1.0);
     o.rgb = vec3(linearToSrgb1(o.r), linearToSrgb1(o.g), linearToSrgb1(o.b));
@@ -198,6 +209,8 @@ void writeOutput(ivec2 p, vec3 c) {
   if (kSwapRB) o = o.bgra;
   imageStore(uOut, P.outOffset.xy + p, o);
 }
+
+void writeOutput(ivec2 p, vec3 c) { storeOutput(p, vec4(c, alphaOf(p))); }
 
 // Reprojects pixel centre p (with 1/z) through matrix m; returns false when behind or outside.
 bool reproject(mat4 m, vec2 pc, float invZ, out vec2 q, out float invZOther) {

@@ -128,7 +128,7 @@ void processPixel(ivec2 p, ivec2 o) {
   if (any(isnan(result)) || any(isinf(result))) result = cur;
   result = clamp(result, vec3(0.0), vec3(65000.0));  // stays finite in half precision
   if (inRange) {
-    if (kWriteHist) imageStore(uHistOut, p, vec4(result, 1.0));
+    if (kWriteHist) writeHistory(p, result);
     if (kWriteOut) writeOutput(p, result);
   }
 }

@@ -34,7 +34,8 @@ void Session::applyLiveConfig() {
   live->poll();
   std::optional<Config> cfg = live->takeUpdate(&liveGeneration_);
   if (!cfg) return;
-  std::lock_guard lock(mutex_);
+  // The filter and the dumper belong to the frame work (frameMutex_); the flags to mutex_.
+  std::scoped_lock lock(frameMutex_, mutex_);
   if (shutDown_) return;
   const Config& before = appliedConfig_ ? *appliedConfig_ : instance_->config;
   const bool wasEnabled = liveEnabled_;
