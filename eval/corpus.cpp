@@ -17,6 +17,9 @@ namespace steadyxr::eval {
 
 namespace {
 
+// History before a motion change: 15 frames at 30 Hz, about what a TAA with alpha 0.1 remembers.
+constexpr double kPreRollSec = 0.5;
+
 // The methods whose mean RMSE the corpus table shows, relative to none's.
 const std::vector<std::string> kTableMethods = {"fxaa",   "taa",     "taa+jitter",     "hmtaa",
                                                 "hybrid", "default", "default+jitter", "oracle"};
@@ -69,14 +72,20 @@ std::map<std::pair<std::string, std::string>, Group> groups(const std::vector<Re
 }  // namespace
 
 const std::vector<std::string>& corpusMotions() {
-  static const std::vector<std::string> motions = {"fixation", "pursuit", "fastturn", "sequence"};
+  static const std::vector<std::string> motions = [] {
+    std::vector<std::string> m;
+    for (const imu::MotionPreset& p : imu::motionPresets()) {
+      if (p.inCorpus) m.push_back(p.name);
+    }
+    return m;
+  }();
   return motions;
 }
 
 const std::vector<std::string>& corpusPictures() {
   // A photo, a natural texture, the procedural high-frequency pictures and the dark gradient.
-  static const std::vector<std::string> pictures = {"astronaut", "brick",     "zoneplate",   "lines1px",
-                                                    "hatch",     "smalltext", "darkgradient"};
+  static const std::vector<std::string> pictures = {"astronaut", "brick",     "zoneplate",
+                                                    "lines1px",  "smalltext", "darkgradient"};
   return pictures;
 }
 
@@ -87,15 +96,31 @@ const std::vector<std::string>& corpusMethods() {
 }
 
 std::string motionClassOf(const std::string& preset) {
-  static const std::vector<std::pair<std::string, std::string>> prefixes = {
-      {"tremor", "fixation"},  {"fixation", "fixation"}, {"microsaccade", "saccades"},
-      {"saccade", "saccades"}, {"sway", "sway"},         {"pursuit", "pursuit"},
-      {"fastturn", "turn"},    {"turn", "turn"},         {"walk", "translation"},
-      {"lean", "translation"}, {"sequence", "sequence"}};
-  for (const auto& [prefix, cls] : prefixes) {
-    if (preset.rfind(prefix, 0) == 0) return cls;
+  for (const imu::MotionPreset& p : imu::motionPresets()) {
+    if (p.name == preset) return p.motionClass;
   }
   return preset;
+}
+
+double corpusStartSec(const std::string& preset, uint64_t seed, int frames, double appHz) {
+  std::string error;
+  const auto stream = imu::makePreset(preset, seed, &error);
+  if (!stream) return 0.0;
+  const std::vector<double> changes = stream->motionChangeTimes();
+  const double window = (frames - 1) / appHz;
+  auto inWindow = [&](double s) {
+    return std::count_if(changes.begin(), changes.end(), [&](double t) { return t >= s && t <= s + window; });
+  };
+  double best = 0.0;
+  auto bestCount = inWindow(0.0);
+  for (double t : changes) {
+    const double s = std::max(0.0, t - kPreRollSec);
+    if (inWindow(s) > bestCount) {
+      best = s;
+      bestCount = inWindow(s);
+    }
+  }
+  return best;
 }
 
 bool presetTranslates(const std::string& preset, uint64_t seed) {
@@ -111,14 +136,21 @@ bool presetTranslates(const std::string& preset, uint64_t seed) {
 
 std::vector<Scenario> corpusScenarios(const Options& o) {
   std::vector<Scenario> out;
+  const bool fromCommandLine = !o.motions.empty();
   const std::vector<std::string> pictures = o.images.empty() ? corpusPictures() : o.images;
   const std::vector<std::string> motions = o.motions.empty() ? corpusMotions() : o.motions;
   for (const std::string& motion : motions) {
     const bool translates = presetTranslates(motion, o.seed);
+    const double start =
+        fromCommandLine && o.startSec > 0 ? o.startSec : corpusStartSec(motion, o.seed, o.frames, o.appHz);
     auto add = [&](const std::string& scene, const std::string& picture, const std::string& pictureCls) {
-      // The disocclusion scene moves the head sideways itself: with and without depth there too.
+      // Without depth too where the head translates (the first picture, the zone plate and the
+      // scenes, to keep the corpus within its time), and always for the disocclusion scene.
+      const bool noDepthToo =
+          scene == "disocclusion" ||
+          (translates && (scene != "imageviewer" || picture == pictures.front() || picture == "zoneplate"));
       for (const bool depth : {true, false}) {
-        if (!depth && !translates && scene != "disocclusion") continue;
+        if (!depth && !noDepthToo) continue;
         Scenario s;
         s.scene = scene;
         s.motion = motion;
@@ -126,10 +158,12 @@ std::vector<Scenario> corpusScenarios(const Options& o) {
         s.motionClass = motionClassOf(motion);
         s.pictureClass = pictureCls;
         s.depthGiven = depth;
+        s.startSec = start;
         s.sweeps = false;
         s.label =
             scene + "-" + motion + (scene == "imageviewer" ? "-" + picture : "") + (depth ? "" : "-nodepth");
-        if (motion == "fastturn") s.leadSec = 0.5;  // history from a still head first
+        if (motion == "fastturn")
+          s.leadSec = kPreRollSec;  // starts at t = 0: history from a still head first
         out.push_back(s);
       }
     };

@@ -26,7 +26,9 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
 
   --out DIR            output folder (default out)
   --scenes LIST        imageviewer,thin,moving,disocclusion,noisy (default: the default suite)
-  --motions LIST       fixation,pursuit,fastturn,sequence (head-motion presets)
+  --motions LIST       head-motion presets (steadyxr-imu-emu --list-motions; e.g. tremor-1x,
+                       microsaccades,sway,pursuit-hold,pursuit-stop-pursuit,fastturn,walk,lean,
+                       fixation,pursuit,sequence)
   --trace FILE[,FILE]  head-motion trace CSV(s) (t_s,qw,qx,qy,qz[,...] or t_s,wx,wy,wz); repeatable
   --images LIST        pictures for the image viewer: PNG paths, python3-skimage names
                        (astronaut, camera, coffee, brick, grass, gravel, text, ...) or the
@@ -42,7 +44,8 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        hmax,wmin,wlb,amin,alpha,gamma,beta,d,catmull (default: all + sweeps)
   --corpus             every motion preset over the corpus pictures and scenes, translating
                        motions with and without depth; one table per motion and picture
-                       class (defaults: 96x96, 24 frames, display = app rate, no seed 004
+                       class (defaults: 96x96, 48 frames placed over the preset's motion
+                       changes, display = app rate, no seed 004
                        study, fewer methods; ~10 min on 2 cores)
   --unorm              UNORM eye images and textures (filtering in encoded values) instead
                        of sRGB (linear light, the default)
@@ -158,7 +161,7 @@ int main(int argc, char** argv) {
   if (o.corpus) {
     // Sized to finish in about 10 minutes on 2 cores (README "Accuracy": measured).
     if (!resolutionGiven) o.width = o.height = 96;
-    if (!framesGiven) o.frames = 24;
+    if (!framesGiven) o.frames = 48;
     if (!displayGiven) o.displayHz = o.appHz;  // the display stage's extra ground truths cost 3x
     if (!warpGiven) o.warpSteps = 0;
   }

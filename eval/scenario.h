@@ -16,6 +16,7 @@ struct Scenario {
   bool depthGiven = true;  // the app submits depth (XR_KHR_composition_layer_depth) to the filter
   bool sweeps = true;      // run the parameter-sweep variants here
   double leadSec = 0.0;    // frames start this long before the stream (held at its t = 0 pose)
+  double startSec = -1.0;  // where in the stream the run starts; < 0: Options::startSec
 };
 
 }  // namespace steadyxr::eval

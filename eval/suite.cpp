@@ -386,6 +386,15 @@ int runSuite(const Options& o) {
       std::cerr << "steadyxr-eval: motion '" << sc.motion << "': " << error << "\n";
       return 2;
     }
+    const double start = sc.startSec >= 0.0 ? sc.startSec : o.startSec;
+    const double lastSec =
+        start - sc.leadSec + (o.frames - 1) * dt + std::max(o.warpSteps, ratio) / o.displayHz;
+    if (stream->validUntilSec() < lastSec) {
+      // A trace shorter than the run is an error, not a silently held last pose.
+      std::cerr << "steadyxr-eval: motion '" << sc.motion << "' ends at " << stream->validUntilSec()
+                << " s, the run needs it until " << lastSec << " s (fewer --frames or an earlier --start)\n";
+      return 2;
+    }
     auto headAt = [&](double t) {
       const imu::MotionState m = stream->at(std::max(0.0, t));
       return HeadPose{glm::normalize(m.orientation), m.position + scene.headOffset(t)};
@@ -397,7 +406,6 @@ int runSuite(const Options& o) {
     oracle.reset();
     const bool oracleHere = !scene.hasMovingObject;
     double gtStereoSum = 0, gtStereoN = 0;
-    HeadPose prevHead = headAt(o.startSec - sc.leadSec - dt);
     std::vector<double> headSpeeds;
     FrameTruth ft;
     std::vector<std::array<Image, 2>> lastOut(variants.size()), worstOut(variants.size());
@@ -408,11 +416,12 @@ int runSuite(const Options& o) {
     auto active = [&](const Variant& v) { return (!v.sweep || sc.sweeps) && (!v.oracle || oracleHere); };
 
     for (int f = 0; f < o.frames; ++f) {
-      const double t = o.startSec - sc.leadSec + f * dt;
+      const double t = start - sc.leadSec + f * dt;
       const HeadPose head = headAt(t);
-      const float headSpeed = core::angleBetweenDeg(prevHead.orientation, head.orientation) / float(dt);
+      // The head's angular speed at the frame (the stream's angular velocity: a trace's wx,wy,wz,
+      // the IMU path's gyro), not a difference of two frames' poses.
+      const float headSpeed = float(stream->headSpeedDegPerSec(std::max(0.0, t)));
       headSpeeds.push_back(headSpeed);
-      prevHead = head;
       const auto cams = eyeCameras(head, o.width, o.height);
       // The layer's jitter of this frame (xrLocateViews call f), as `jitter = 1` injects it.
       const glm::vec2 jitter = core::haltonJitterPx(uint32_t(f));
@@ -645,7 +654,17 @@ int runSuite(const Options& o) {
 
     // Rows of this scenario.
     const double gtStereo = safeDiv(gtStereoSum, gtStereoN);
-    const std::vector<int> changes = detectMotionChanges(headSpeeds, kMotionChangeDegPerSec);
+    // Motion changes: the preset's own change times (the first frame at or after each), else, for
+    // a trace, detected from the head speed.
+    std::vector<int> changes;
+    if (sc.trace) {
+      changes = detectMotionChanges(headSpeeds, kMotionChangeDegPerSec);
+    } else {
+      for (double tc : stream->motionChangeTimes()) {
+        const int k = int(std::ceil((tc - (start - sc.leadSec)) / dt - 1e-9));
+        if (k >= 0 && k < o.frames && (changes.empty() || changes.back() != k)) changes.push_back(k);
+      }
+    }
     const double p95 = percentile(headSpeeds, 0.95);
     for (size_t vi = 0; vi < variants.size(); ++vi) {
       const Variant& v = variants[vi];
