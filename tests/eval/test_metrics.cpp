@@ -383,3 +383,99 @@ TEST(EvalPictures, MipChainAveragesInLinearLight) {
 
 }  // namespace
 }  // namespace steadyxr::eval
+
+#include "targets.h"
+
+namespace steadyxr::eval {
+namespace {
+
+// Two cases, one at low head speed; every method's row built so that the default meets every
+// target of issue 14. Each test then breaks one figure and expects exactly that target missed.
+std::vector<ResultRow> goodRows() {
+  std::vector<ResultRow> rows;
+  for (const char* c : {"still", "turn"}) {
+    auto row = [&](const char* method, double rmse, double tempErr, double stereoErr) {
+      ResultRow r;
+      r.scenario = c;
+      r.method = method;
+      r.rmse = rmse;
+      r.temporalError = tempErr;
+      r.stereoError = stereoErr;
+      r.ghostWorstRatio = 1.0;
+      r.lowSpeed = std::string(c) == "still";
+      rows.push_back(r);
+    };
+    row("none", 0.10, 1.0, 2.0);
+    row("taa", 0.08, 0.5, 2.0);
+    row("taa+jitter", 0.07, 0.5, 2.0);
+    row("hybrid", 0.06, 0.3, 2.0);
+    row("default", 0.06, 0.3, 1.0);
+    rows.back().ghostWorstRatio = 1.05;
+  }
+  return rows;
+}
+
+std::vector<bool> metFlags(const std::vector<ResultRow>& rows) {
+  std::vector<bool> met;
+  for (const TargetCheck& t : checkTargets(rows, "hybrid")) {
+    EXPECT_TRUE(t.evaluated) << t.name;
+    met.push_back(t.met);
+  }
+  return met;
+}
+
+ResultRow& find(std::vector<ResultRow>& rows, const std::string& c, const std::string& m) {
+  for (ResultRow& r : rows) {
+    if (r.scenario == c && r.method == m) return r;
+  }
+  throw std::runtime_error("no row");
+}
+
+TEST(EvalTargets, EachTargetIsCheckedByWhatACaseIs) {
+  // Order: mean RMSE <= none, worst frame <= 1.1x, recovery <= 3, shimmer, RMSE <= min(taa,
+  // taa+jitter), 20 % below taa on average, stereo error 30 % below, stereo RMSE not higher.
+  const std::vector<bool> all(8, true);
+  EXPECT_EQ(metFlags(goodRows()), all);
+  auto expectOnlyMissed = [&](std::vector<ResultRow> rows, size_t target) {
+    std::vector<bool> want = all;
+    want[target] = false;
+    EXPECT_EQ(metFlags(rows), want) << "target " << target;
+  };
+  {
+    auto rows = goodRows();
+    find(rows, "turn", "default").ghostWorstRatio = 1.2;
+    expectOnlyMissed(rows, 1);
+  }
+  {
+    auto rows = goodRows();
+    find(rows, "turn", "default").recoveryFrames = 4;
+    expectOnlyMissed(rows, 2);
+  }
+  {
+    // Shimmer counts on the low-speed case only: a high temporal error at speed is not shimmer.
+    auto rows = goodRows();
+    find(rows, "turn", "default").temporalError = 0.9;
+    EXPECT_EQ(metFlags(rows), all);
+    find(rows, "still", "default").temporalError = 0.41;
+    expectOnlyMissed(rows, 3);
+  }
+  {
+    auto rows = goodRows();
+    find(rows, "still", "taa+jitter").rmse = 0.05;  // better than the default in one case
+    expectOnlyMissed(rows, 4);
+  }
+  {
+    auto rows = goodRows();
+    find(rows, "still", "default").stereoError = 1.5;
+    find(rows, "turn", "default").stereoError = 1.5;  // only 25 % below the temporal pass alone
+    expectOnlyMissed(rows, 6);
+  }
+  {
+    auto rows = goodRows();
+    find(rows, "still", "default").rmse = 0.0601;  // stereo pass raised RMSE over hybrid's
+    expectOnlyMissed(rows, 7);
+  }
+}
+
+}  // namespace
+}  // namespace steadyxr::eval
