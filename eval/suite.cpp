@@ -165,8 +165,24 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->sampleD[0] = value;
     else if (key == "catmull")
       params->historyFilter = value != 0.0f ? core::HistoryFilter::CatmullRom : core::HistoryFilter::Bilinear;
+    else if (key == "floor")  // steady's ablation switches and constants (core::Params)
+      params->steadyAlphaFloor = value;
+    else if (key == "conf")
+      params->steadyConfidence = value != 0.0f;
+    else if (key == "reject")
+      params->steadyClipRejects = value != 0.0f;
+    else if (key == "blur")
+      params->steadyBlurBudgetPx2 = value;
+    else if (key == "footprint")
+      params->steadyFootprint = value;
+    else if (key == "near")
+      params->steadyNearestDepthM = value;
+    else if (key == "interp")
+      params->steadyInterpolated = value != 0.0f;
     else {
-      *error = "unknown parameter '" + key + "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d, catmull)";
+      *error = "unknown parameter '" + key +
+               "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d, catmull, floor, conf, reject, blur, "
+               "footprint, near, interp)";
       return false;
     }
     v->sweep = true;

@@ -39,7 +39,7 @@ constexpr uint32_t kQueries = 4;
 // GPUs keep the 16x8 measured on the H100.
 constexpr uint32_t kCpuGroupX = 32, kCpuGroupY = 2;
 constexpr uint32_t kGpuGroupX = 16, kGpuGroupY = 8;
-constexpr int kModeTaa = 0, kModeHmtaa = 1, kModeVtaa = 2, kModeHybrid = 3;  // kMode in temporal.comp
+constexpr int kModeTaa = 0, kModeHmtaa = 1, kModeVtaa = 2, kModeHybrid = 3, kModeSteady = 4;  // temporal.comp
 
 enum class Pass : uint32_t { Copy, Temporal, Stereo, Fxaa, Count };
 enum OutFmt : uint32_t { kOut8 = 0, kOut16 = 1 };
@@ -283,6 +283,20 @@ struct PipelineSlot {
     if (c.pipeline) vkDestroyPipeline(device, c.pipeline, nullptr);
   }
 };
+
+// Squared spread (px^2) of where the history of a point lies, over the depths between the far
+// plane (what the reprojection assumes without depth) and steadyNearestDepthM, for the eye's
+// translation since the last frame: focal length in px times |translation| times the spread of 1/z.
+float parallaxSpreadPx2(const Params& params, const ViewFrame& v, const EyeState& eye) {
+  const float nearest = params.steadyNearestDepthM;
+  if (!std::isfinite(nearest) || !(nearest > 0.0f)) return 0.0f;
+  const float invFar = std::isinf(params.stereoFarDistanceM) ? 0.0f : 1.0f / params.stereoFarDistanceM;
+  const float spreadInvZ = std::max(1.0f / nearest - invFar, 0.0f);
+  const float focalPx =
+      static_cast<float>(eye.size.width) / (std::tan(v.fov.angleRight) - std::tan(v.fov.angleLeft));
+  const float e = focalPx * glm::length(v.pose.position - eye.prevPose.position) * spreadInvZ;
+  return std::isfinite(e) ? std::min(e * e, 1e6f) : 1e6f;
+}
 
 }  // namespace
 
@@ -672,7 +686,8 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   }
   const TemporalMethod method = params.temporal;
   const bool temporal = method == TemporalMethod::Taa || method == TemporalMethod::Hmtaa ||
-                        method == TemporalMethod::Vtaa || method == TemporalMethod::Hybrid;
+                        method == TemporalMethod::Vtaa || method == TemporalMethod::Hybrid ||
+                        method == TemporalMethod::Steady;
   const bool fxaa = method == TemporalMethod::Fxaa;
   const bool stereo = params.stereo && n == 2;
   const bool stage1 = temporal || fxaa || !stereo;  // `none` + stereo reads the inputs directly
@@ -962,8 +977,10 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
         u.src1Rect = historyRect(e);
         u.src1InvExtent = historyInv(e);
         u.flags.z = eye.valid ? 1 : 0;
-        const bool interpolated = method == TemporalMethod::Hmtaa || method == TemporalMethod::Hybrid;
-        const uint32_t count = interpolated ? params.sampleCount : 1u;
+        const bool steady = method == TemporalMethod::Steady;
+        const bool interpolated = method == TemporalMethod::Hmtaa || method == TemporalMethod::Hybrid ||
+                                  (steady && params.steadyInterpolated);
+        const uint32_t count = interpolated && !steady ? params.sampleCount : 1u;
         std::array<float, Params::kMaxSamples> w{};
         sampleWeightsW(params.sampleD.data(), count, w.data());
         for (uint32_t i = 0; i < count && eye.valid; ++i) {
@@ -975,13 +992,22 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
         const int mode = method == TemporalMethod::Taa     ? kModeTaa
                          : method == TemporalMethod::Hmtaa ? kModeHmtaa
                          : method == TemporalMethod::Vtaa  ? kModeVtaa
+                         : steady                          ? kModeSteady
                                                            : kModeHybrid;
+        if (steady) {  // uniforms of the steady mode (common.glsl, PassParams)
+          u.w0.z = params.steadyAlphaFloor;
+          u.w0.w = params.steadyConfidence ? 1.0f : 0.0f;
+          u.w1.x = params.steadyClipRejects ? 1.0f : 0.0f;
+          u.w1.y = params.steadyBlurBudgetPx2 > 0.0f ? 1.0f / params.steadyBlurBudgetPx2 : 0.0f;
+          u.w1.z = params.steadyFootprint;
+        }
         u.flags.x = mode;
         u.flags.y = static_cast<int>(count);
         u.jitter = {v.jitterPx.x, v.jitterPx.y, 0.0f, 0.0f};
         if (!std::isfinite(u.jitter.x) || !std::isfinite(u.jitter.y) || std::abs(u.jitter.x) > 1.0f ||
             std::abs(u.jitter.y) > 1.0f)
           u.jitter = glm::vec4(0.0f);  // sub-pixel only; anything else is a caller bug: ignore it
+        if (steady && eye.valid) u.jitter.z = hasDepth[e] ? 0.0f : parallaxSpreadPx2(params, v, eye);
         ok =
             dispatch(Pass::Temporal, fmt, u, inputs[e], historyBinding(e, prev), depths[e], {}, histOut, out);
       } else {

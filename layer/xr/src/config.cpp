@@ -188,7 +188,7 @@ std::string_view toString(LogLevel level) {
 }
 
 bool isKnownMethodName(std::string_view name) {
-  static constexpr std::string_view kTemporal[] = {"none", "fxaa", "taa", "hmtaa", "vtaa", "hybrid"};
+  static constexpr std::string_view kTemporal[] = {"none", "fxaa", "taa", "hmtaa", "vtaa", "hybrid", "steady"};
   if (name == "default" || name == "stereo") return true;
   std::string_view base = name;
   constexpr std::string_view kSuffix = "+stereo";

@@ -184,6 +184,7 @@ bool undoesJitter(core::TemporalMethod method) {
     case core::TemporalMethod::Hmtaa:
     case core::TemporalMethod::Vtaa:
     case core::TemporalMethod::Hybrid:
+    case core::TemporalMethod::Steady:
       return true;
     case core::TemporalMethod::None:
     case core::TemporalMethod::Fxaa:
