@@ -7,7 +7,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools glslang-tools spirv-tools
   libopenxr-dev libopenxr-loader1 libopenxr-utils openxr-layer-corevalidation openxr-layer-apidump
   libglm-dev libhidapi-dev libgtest-dev libgmock-dev libstb-dev
-  python3 python3-matplotlib python3-numpy python3-skimage
+  python3 python3-matplotlib python3-numpy python3-pil python3-skimage
   debootstrap
 )
 missing=()

@@ -1,6 +1,7 @@
 #include "image.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #define STB_IMAGE_IMPLEMENTATION
@@ -96,6 +97,46 @@ void blit(Image* canvas, const Image& tile, int x, int y) {
       std::copy_n(tile.at(tx, ty), 3, canvas->at(cx, cy));
     }
   }
+}
+
+float srgbToLinear(float e) {
+  return e <= 0.04045f ? e / 12.92f : std::pow((e + 0.055f) / 1.055f, 2.4f);
+}
+
+float linearToSrgb(float l) {
+  return l <= 0.0031308f ? 12.92f * l : 1.055f * std::pow(l, 1.0f / 2.4f) - 0.055f;
+}
+
+std::vector<Rgba8> mipChain(const Rgba8& image, bool srgb) {
+  std::vector<Rgba8> levels{image};
+  std::array<float, 256> toLinear{};
+  for (int v = 0; v < 256; ++v) toLinear[v] = srgb ? srgbToLinear(v / 255.0f) : v / 255.0f;
+  while (levels.back().width > 1 || levels.back().height > 1) {
+    const Rgba8& up = levels.back();
+    Rgba8 down;
+    down.width = std::max(1, up.width / 2);
+    down.height = std::max(1, up.height / 2);
+    down.pixels.resize(size_t(down.width) * down.height * 4);
+    for (int y = 0; y < down.height; ++y) {
+      for (int x = 0; x < down.width; ++x) {
+        for (int c = 0; c < 4; ++c) {
+          float sum = 0.0f;
+          for (int k = 0; k < 4; ++k) {
+            const int sx = std::min(up.width - 1, 2 * x + (k & 1)),
+                      sy = std::min(up.height - 1, 2 * y + (k >> 1));
+            const uint8_t v = up.pixels[(size_t(sy) * up.width + sx) * 4 + c];
+            sum += c == 3 ? v / 255.0f : toLinear[v];  // alpha is linear in either format
+          }
+          const float mean = sum / 4.0f;
+          const float enc = c == 3 || !srgb ? mean : linearToSrgb(mean);
+          down.pixels[(size_t(y) * down.width + x) * 4 + c] =
+              uint8_t(std::lround(std::clamp(enc, 0.0f, 1.0f) * 255.0f));
+        }
+      }
+    }
+    levels.push_back(std::move(down));
+  }
+  return levels;
 }
 
 }  // namespace steadyxr::eval

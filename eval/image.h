@@ -48,4 +48,11 @@ Image differenceImage(const Image& a, const Image& b, float gain);
 // Place `tile` into `canvas` at (x, y).
 void blit(Image* canvas, const Image& tile, int x, int y);
 
+// The sRGB transfer functions (IEC 61966-2-1), on values in [0, 1].
+float srgbToLinear(float encoded);
+float linearToSrgb(float linear);
+// Mip levels 0 (the image itself) .. 1x1, each a 2x2 box average of the one above (odd sizes
+// clamp), averaged in linear light when `srgb` (what the GPU's sRGB sampler then interpolates).
+std::vector<Rgba8> mipChain(const Rgba8& image, bool srgb);
+
 }  // namespace steadyxr::eval

@@ -26,15 +26,32 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
 
   --out DIR            output folder (default out)
   --scenes LIST        imageviewer,thin,moving,disocclusion,noisy (default: the default suite)
-  --motions LIST       fixation,pursuit,fastturn,sequence (head-motion presets)
+  --motions LIST       head-motion presets (steadyxr-imu-emu --list-motions; e.g. tremor-1x,
+                       microsaccades,sway,pursuit-hold,pursuit-stop-pursuit,fastturn,walk,lean,
+                       fixation,pursuit,sequence)
   --trace FILE[,FILE]  head-motion trace CSV(s) (t_s,qw,qx,qy,qz[,...] or t_s,wx,wy,wz); repeatable
-  --images LIST        pictures for the image viewer: PNG paths or python3-skimage names
-                       (default astronaut,camera,coffee,brick,grass,text,page; the default
-                       suite uses the first two under fixation, every given one otherwise)
+  --images LIST        pictures for the image viewer: PNG paths, python3-skimage names
+                       (astronaut, camera, coffee, brick, grass, gravel, text, ...) or the
+                       procedural zoneplate, lines1px, hatch, smalltext, darkgradient (default
+                       astronaut,camera,...: the default suite uses the first two and zoneplate
+                       under fixation, every given one otherwise)
   --pictures-dir DIR   where built-in picture names are found (default python3-skimage's data)
   --methods LIST       none,fxaa,msaa2,msaa4,taa,hmtaa,vtaa,hybrid, each also <m>+stereo,
-                       stereo, default; sweeps as <m>@key=value[@key=value] with keys
+                       stereo, default; the temporal ones and default also <m>+jitter (the
+                       layer's Halton(2,3) jitter, undone through ViewFrame::jitterPx); oracle
+                       (static scenes: exact reprojection, 1/N over 16 frames, on the CPU);
+                       sweeps as <m>@key=value[@key=value] with keys
                        hmax,wmin,wlb,amin,alpha,gamma,beta,d,catmull (default: all + sweeps)
+  --corpus             every motion preset over the corpus pictures and scenes, translating
+                       motions with and without depth; one table per motion and picture
+                       class (defaults: 96x96, 48 frames placed over the preset's motion
+                       changes, display = app rate, no seed 004
+                       study, fewer methods; ~10 min on 2 cores)
+  --unorm              UNORM eye images and textures (filtering in encoded values) instead
+                       of sRGB (linear light, the default)
+  --no-mipmaps         sample textures without mipmaps (the worst case; default trilinear)
+  --animate CASE       write the animated comparison frames of this case (default: the first
+                       case; plot.py makes out/anim/CASE.gif)
   --resolution WxH     per eye (default 256x256)
   --frames N           app frames per scenario (default 40)
   --seed N             head-motion seed (default 1)
@@ -57,7 +74,7 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
 
 int main(int argc, char** argv) {
   steadyxr::eval::Options o;
-  bool resolutionGiven = false, framesGiven = false;
+  bool resolutionGiven = false, framesGiven = false, displayGiven = false, warpGiven = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -100,16 +117,26 @@ int main(int argc, char** argv) {
         o.appHz = std::stod(next());
       } else if (a == "--display-hz") {
         o.displayHz = std::stod(next());
+        displayGiven = true;
       } else if (a == "--start") {
         o.startSec = std::stod(next());
       } else if (a == "--gt-grid") {
         o.gtGrid = std::stoi(next());
       } else if (a == "--warp-steps") {
         o.warpSteps = std::stoi(next());
+        warpGiven = true;
       } else if (a == "--threshold") {
         o.errorThreshold = std::stof(next());
       } else if (a == "--noise") {
         o.noise = std::stof(next());
+      } else if (a == "--corpus") {
+        o.corpus = true;
+      } else if (a == "--unorm") {
+        o.unorm = true;
+      } else if (a == "--no-mipmaps") {
+        o.mipmaps = false;
+      } else if (a == "--animate") {
+        o.animate = next();
       } else if (a == "--no-sweeps") {
         o.sweeps = false;
       } else if (a == "--quick") {
@@ -130,6 +157,13 @@ int main(int argc, char** argv) {
   if (o.quick) {
     if (!resolutionGiven) o.width = o.height = 96;
     if (!framesGiven) o.frames = 16;
+  }
+  if (o.corpus) {
+    // Sized to finish in about 10 minutes on 2 cores (README "Accuracy": measured).
+    if (!resolutionGiven) o.width = o.height = 96;
+    if (!framesGiven) o.frames = 48;
+    if (!displayGiven) o.displayHz = o.appHz;  // the display stage's extra ground truths cost 3x
+    if (!warpGiven) o.warpSteps = 0;
   }
   if (o.width < 16 || o.height < 16 || o.width > 4096 || o.height > 4096 || o.frames < 2 || o.gtGrid < 1 ||
       o.appHz <= 0 || o.displayHz < o.appHz || o.warpSteps < 0) {

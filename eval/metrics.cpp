@@ -111,14 +111,17 @@ int64_t errorPixels(const Image& a, const Image& b, float threshold) {
   return count;
 }
 
-StereoDifference stereoDifference(const Image& left, const DepthMap& leftDepth, const EyeCamera& leftCam,
-                                  const Image& right, const DepthMap& rightDepth, const EyeCamera& rightCam,
-                                  float relativeDepthTolerance) {
-  double sum = 0.0;
-  int64_t valid = 0;
+namespace {
+
+// Calls visit(x, y, q) for every left-eye pixel whose surface the right eye also sees: the pixel
+// is carried into the right eye through the left depth, and rejected when the right eye's depth
+// there disagrees (occlusion) or it lands outside; q is its right-eye pixel position.
+template <typename Visit>
+void forEachStereoPair(const DepthMap& leftDepth, const EyeCamera& leftCam, const DepthMap& rightDepth,
+                       const EyeCamera& rightCam, float relativeDepthTolerance, Visit&& visit) {
   const glm::vec3 rightEye = rightCam.pose.position;
-  for (int y = 0; y < left.height; ++y) {
-    for (int x = 0; x < left.width; ++x) {
+  for (int y = 0; y < leftDepth.height; ++y) {
+    for (int x = 0; x < leftDepth.width; ++x) {
       const float d = leftDepth.at(x, y);
       if (d >= 1.0f) continue;  // background at the far plane: no disparity information
       const glm::vec3 p = unproject(leftCam, x + 0.5f, y + 0.5f, d);
@@ -126,22 +129,116 @@ StereoDifference stereoDifference(const Image& left, const DepthMap& leftDepth, 
       float qd = 0.0f;
       if (!project(rightCam, p, &q, &qd)) continue;
       const int rx = static_cast<int>(q.x), ry = static_cast<int>(q.y);
-      if (q.x < 0.0f || q.y < 0.0f || rx >= right.width || ry >= right.height) continue;
+      if (q.x < 0.0f || q.y < 0.0f || rx >= rightDepth.width || ry >= rightDepth.height) continue;
       // Occlusion: the right eye must see the same surface there.
       const glm::vec3 seen = unproject(rightCam, rx + 0.5f, ry + 0.5f, rightDepth.at(rx, ry));
       const float dp = glm::length(p - rightEye), ds = glm::length(seen - rightEye);
       if (std::fabs(dp - ds) > relativeDepthTolerance * dp) continue;
-      float c[3];
-      if (!sampleBilinear(right, q.x, q.y, c)) continue;
-      const float* l = left.at(x, y);
-      for (int ch = 0; ch < 3; ++ch) sum += static_cast<double>(l[ch] - c[ch]) * (l[ch] - c[ch]);
-      ++valid;
+      visit(x, y, q);
     }
   }
+}
+
+}  // namespace
+
+StereoDifference stereoDifference(const Image& left, const DepthMap& leftDepth, const EyeCamera& leftCam,
+                                  const Image& right, const DepthMap& rightDepth, const EyeCamera& rightCam,
+                                  float relativeDepthTolerance) {
+  double sum = 0.0;
+  int64_t valid = 0;
+  forEachStereoPair(leftDepth, leftCam, rightDepth, rightCam, relativeDepthTolerance,
+                    [&](int x, int y, glm::vec2 q) {
+                      float c[3];
+                      if (!sampleBilinear(right, q.x, q.y, c)) return;
+                      const float* l = left.at(x, y);
+                      for (int ch = 0; ch < 3; ++ch)
+                        sum += static_cast<double>(l[ch] - c[ch]) * (l[ch] - c[ch]);
+                      ++valid;
+                    });
   StereoDifference out;
   if (valid > 0) out.meanSquared = sum / (3.0 * static_cast<double>(valid));
   out.validFraction = static_cast<double>(valid) / (static_cast<double>(left.width) * left.height);
   return out;
+}
+
+double temporalErrorVsTruth(const Image& previousOut, const Image& out, const Image& previousTruth,
+                            const Image& truth) {
+  const size_t n = static_cast<size_t>(out.width) * out.height;
+  double sum = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    double d2 = 0.0;
+    for (size_t c = i * 3; c < i * 3 + 3; ++c) {
+      const double d = (static_cast<double>(out.rgb[c]) - previousOut.rgb[c]) -
+                       (static_cast<double>(truth.rgb[c]) - previousTruth.rgb[c]);
+      d2 += d * d;
+    }
+    sum += std::sqrt(d2);
+  }
+  return n ? sum / static_cast<double>(n) : 0.0;
+}
+
+double stereoErrorPerPixel(const Image& leftOut, const Image& rightOut, const Image& leftTruth,
+                           const Image& rightTruth, const DepthMap& leftDepth, const EyeCamera& leftCam,
+                           const DepthMap& rightDepth, const EyeCamera& rightCam,
+                           float relativeDepthTolerance) {
+  double sum = 0.0;
+  int64_t valid = 0;
+  forEachStereoPair(
+      leftDepth, leftCam, rightDepth, rightCam, relativeDepthTolerance, [&](int x, int y, glm::vec2 q) {
+        float ro[3], rt[3];
+        if (!sampleBilinear(rightOut, q.x, q.y, ro) || !sampleBilinear(rightTruth, q.x, q.y, rt)) {
+          return;
+        }
+        const float *lo = leftOut.at(x, y), *lt = leftTruth.at(x, y);
+        double d2 = 0.0;
+        for (int ch = 0; ch < 3; ++ch) {
+          const double d = (static_cast<double>(lo[ch]) - ro[ch]) - (static_cast<double>(lt[ch]) - rt[ch]);
+          d2 += d * d;
+        }
+        sum += std::sqrt(d2);
+        ++valid;
+      });
+  return valid > 0 ? sum / static_cast<double>(valid) : 0.0;
+}
+
+std::vector<int> detectMotionChanges(const std::vector<double>& headSpeedDegPerSec,
+                                     double thresholdDegPerSec) {
+  std::vector<int> changes;
+  for (size_t k = 1; k < headSpeedDegPerSec.size(); ++k) {
+    if (std::fabs(headSpeedDegPerSec[k] - headSpeedDegPerSec[k - 1]) >= thresholdDegPerSec) {
+      changes.push_back(static_cast<int>(k));
+    }
+  }
+  return changes;
+}
+
+Ghosting ghostingPerFrame(const std::vector<double>& methodRmse, const std::vector<double>& noneRmse,
+                          const std::vector<int>& changeFrames) {
+  Ghosting g;
+  const size_t n = std::min(methodRmse.size(), noneRmse.size());
+  for (size_t k = 0; k < n; ++k) {
+    const double ratio = noneRmse[k] > 0.0 ? methodRmse[k] / noneRmse[k] : (methodRmse[k] > 0.0 ? 1e9 : 1.0);
+    if (g.worstFrame < 0 || ratio > g.worstRatio) {
+      g.worstRatio = ratio;
+      g.worstFrame = static_cast<int>(k);
+    }
+  }
+  for (int change : changeFrames) {
+    if (change < 0 || static_cast<size_t>(change) >= n) continue;
+    size_t k = static_cast<size_t>(change);
+    while (k < n && methodRmse[k] > noneRmse[k]) ++k;
+    if (k == n) g.recovered = false;
+    g.recoveryFrames = std::max(g.recoveryFrames, static_cast<int>(k) - change);
+  }
+  return g;
+}
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const double rank = std::ceil(std::clamp(p, 0.0, 1.0) * static_cast<double>(values.size()));
+  const size_t index = rank < 1.0 ? 0 : static_cast<size_t>(rank) - 1;
+  return values[std::min(index, values.size() - 1)];
 }
 
 }  // namespace steadyxr::eval

@@ -6,6 +6,7 @@
 #include "image.h"
 
 #include <cstdint>
+#include <vector>
 
 namespace steadyxr::eval {
 
@@ -34,5 +35,42 @@ struct StereoDifference {
 StereoDifference stereoDifference(const Image& left, const DepthMap& leftDepth, const EyeCamera& leftCam,
                                   const Image& right, const DepthMap& rightDepth, const EyeCamera& rightCam,
                                   float relativeDepthTolerance = 0.02f);
+
+// Temporal error against ground truth (issue 13): mean over pixels of the RGB Euclidean norm of
+// (O_k - O_{k-1}) - (G_k - G_{k-1}). Zero for a perfect sequence; unlike MTCD it punishes an
+// output that lags the head (changes less than the truth does) as much as one that shimmers.
+// Equals MTCD when the ground truth does not change. Same [0, 1] scale as the inputs.
+double temporalErrorVsTruth(const Image& previousOut, const Image& out, const Image& previousTruth,
+                            const Image& truth);
+
+// Per-pixel stereo error (issue 13): over the left-eye pixels the right eye also sees (by the
+// ground truth's depth, as stereoDifference), D(x) = L(x) - R(q(x)) is the reprojected left-right
+// difference; the error is the mean RGB Euclidean norm of D_method - D_truth. Zero when the
+// method's eyes differ exactly as the truth's do; unlike a difference of image-wide averages it
+// cannot be met by errors that cancel, and it does not blow up when the truth's difference is 0.
+double stereoErrorPerPixel(const Image& leftOut, const Image& rightOut, const Image& leftTruth,
+                           const Image& rightTruth, const DepthMap& leftDepth, const EyeCamera& leftCam,
+                           const DepthMap& rightDepth, const EyeCamera& rightCam,
+                           float relativeDepthTolerance = 0.02f);
+
+// Frames where the head motion changes (a stop, a start, a saccade), detected from the head speed
+// per frame: frame k (k >= 1) when |h_k - h_{k-1}| >= thresholdDegPerSec.
+std::vector<int> detectMotionChanges(const std::vector<double>& headSpeedDegPerSec,
+                                     double thresholdDegPerSec);
+
+// Ghosting per frame of one method against `none` over the same frames of one case.
+struct Ghosting {
+  double worstRatio = 0.0;  // max over frames of rmse_method / rmse_none
+  int worstFrame = -1;
+  // Max over the motion changes of the frames from the change until the method's RMSE is back at
+  // or below none's (0: never above); a change it never recovers from counts the frames to the end.
+  int recoveryFrames = 0;
+  bool recovered = true;  // every change recovered within the run
+};
+Ghosting ghostingPerFrame(const std::vector<double>& methodRmse, const std::vector<double>& noneRmse,
+                          const std::vector<int>& changeFrames);
+
+// Percentile p in [0, 1] of the values (nearest rank); 0 for none.
+double percentile(std::vector<double> values, double p);
 
 }  // namespace steadyxr::eval

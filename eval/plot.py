@@ -6,6 +6,9 @@ Writes OUT_DIR/charts/:
                             Pareto front drawn
   timeseries_<scenario>.png MTCD and RMSE per frame (fast-turn, moving-object and pursuit scenarios)
   warp_errors.png           seed 004 error pixels against extrapolation time and head/object speed
+  pareto_class_<motion>.png per motion class (corpus runs): mean RMSE and temporal error relative to
+                            none's against cost, one point per method
+and OUT_DIR/anim/<case>.gif from the frames steadyxr-eval wrote to OUT_DIR/anim/<case>/ (python3-pil).
 """
 import csv
 import json
@@ -23,7 +26,7 @@ except ImportError:  # e.g. a pyenv python first on PATH: fall back to Debian's 
         os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
     raise
 
-MAIN_METHODS = ["none", "fxaa", "msaa4", "taa", "hmtaa", "vtaa", "default"]
+MAIN_METHODS = ["none", "fxaa", "msaa4", "taa", "taa+jitter", "hmtaa", "vtaa", "default", "default+jitter", "oracle"]
 
 
 def read_csv(path):
@@ -89,6 +92,7 @@ def plot_pareto(rows, charts, device):
 def plot_timeseries(series, charts):
     scenarios = sorted({r["scenario"] for r in series})
     wanted = [s for s in scenarios if "fastturn" in s or s.startswith("moving") or "pursuit" in s] or scenarios[:1]
+    wanted = wanted[:8]  # a corpus has dozens; results.csv / timeseries.csv hold them all
     for scenario in wanted:
         sub = [r for r in series if r["scenario"] == scenario]
         fig, axes = plt.subplots(3, 1, figsize=(10, 9), sharex=True)
@@ -155,13 +159,81 @@ def plot_warp(warp, charts):
     plt.close(fig)
 
 
+def plot_pareto_classes(rows, charts, device):
+    """Corpus: per motion class, each method's mean RMSE and temporal error relative to none's in the
+    same case, against its mean cost (the oracle, a CPU bound, at the left edge)."""
+    none = {r["scenario"]: r for r in rows if r["method"] == "none"}
+    classes = sorted({r.get("motion_class", "") for r in rows} - {""})
+    if len(classes) < 2:
+        return
+    for cls in classes:
+        sub = [r for r in rows if r.get("motion_class") == cls and r["scenario"] in none]
+        fig, axes = plt.subplots(1, 2, figsize=(13, 5))
+        for ax, metric, label in ((axes[0], "rmse", "mean RMSE / none's"),
+                                  (axes[1], "temporal_error", "mean temporal error / none's")):
+            pts = []
+            for m in sorted({r["method"] for r in sub}):
+                ratios, costs = [], []
+                for r in sub:
+                    if r["method"] != m:
+                        continue
+                    n = num(none[r["scenario"]][metric])
+                    v = num(r[metric])
+                    if n and v is not None:
+                        ratios.append(v / n)
+                    costs.append(num(r["cost_ms"]) or 0.0)
+                if ratios:
+                    pts.append((max(sum(costs) / len(costs), 1e-3), sum(ratios) / len(ratios), m))
+            for c, e, name in pts:
+                ax.scatter([c], [e], s=36, color="tab:red" if name.startswith("default") else "tab:blue")
+                ax.annotate(name, (c, e), fontsize=7, xytext=(3, 2), textcoords="offset points")
+            front = pareto(pts)
+            if front:
+                ax.plot([p[0] for p in front], [p[1] for p in front], "-", color="tab:green", lw=1.2,
+                        label="Pareto front")
+                ax.legend(fontsize=8)
+            ax.axhline(1.0, color="gray", lw=0.8, ls="--")
+            ax.set_xscale("log")
+            ax.set_xlabel(f"cost: filter ms (both eyes, {device}; oracle: CPU, drawn at 0.001)")
+            ax.set_ylabel(label)
+            ax.grid(alpha=0.3)
+        n_cases = len({r["scenario"] for r in sub})
+        fig.suptitle(f"motion class {cls}: {n_cases} cases, accuracy against cost")
+        fig.tight_layout()
+        fig.savefig(os.path.join(charts, f"pareto_class_{cls}.png"), dpi=110)
+        plt.close(fig)
+
+
+def make_animations(out):
+    """anim/<case>/frame_*.png -> anim/<case>.gif (python3-pil), 10 frames per second, looping."""
+    anim = os.path.join(out, "anim")
+    if not os.path.isdir(anim):
+        return
+    from PIL import Image  # python3-pil (Debian); imported here so charts never depend on it
+
+    for case in sorted(os.listdir(anim)):
+        folder = os.path.join(anim, case)
+        if not os.path.isdir(folder):
+            continue
+        frames = [Image.open(os.path.join(folder, f)).convert("RGB")
+                  for f in sorted(os.listdir(folder)) if f.endswith(".png")]
+        if frames:
+            frames[0].save(os.path.join(anim, case + ".gif"), save_all=True, append_images=frames[1:],
+                           duration=100, loop=0)
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "out"
     charts = os.path.join(out, "charts")
     os.makedirs(charts, exist_ok=True)
-    plot_pareto(read_csv(os.path.join(out, "results.csv")), charts, device_name(out))
+    rows = read_csv(os.path.join(out, "results.csv"))
+    if os.path.exists(os.path.join(out, "corpus.csv")):
+        plot_pareto_classes(rows, charts, device_name(out))  # a corpus: one chart per motion class
+    else:
+        plot_pareto(rows, charts, device_name(out))
     plot_timeseries(read_csv(os.path.join(out, "timeseries.csv")), charts)
     plot_warp(read_csv(os.path.join(out, "warp_errors.csv")), charts)
+    make_animations(out)
     print(f"charts written to {charts}")
 
 

@@ -16,7 +16,6 @@ namespace steadyxr::eval {
 
 namespace {
 
-constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 
 struct PushConstants {
@@ -39,6 +38,7 @@ struct GpuImage {
   UniqueImageView view;
   VkFormat format = VK_FORMAT_UNDEFINED;
   VkImageUsageFlags usage = 0;
+  bool mutableFormat = false;
 };
 
 struct SceneRenderer::Impl {
@@ -46,6 +46,10 @@ struct SceneRenderer::Impl {
   VkDevice dev;
   int width;
   int height;
+  RenderOptions options;
+  // sRGB: the eye images, MSAA targets, outputs and textures are sRGB (shading and blending in
+  // linear light, as the layer's filter reads them); UNORM: everything in encoded values.
+  VkFormat eyeFormat = VK_FORMAT_R8G8B8A8_SRGB;
   VkFormat accumFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
   bool timestamps = false;
   double timestampPeriodNs = 1.0;
@@ -85,7 +89,13 @@ struct SceneRenderer::Impl {
   // Filter outputs.
   std::array<GpuImage, 2> outputs;
 
-  Impl(core::VulkanContext& c, int w, int h) : ctx(c), dev(c.device()), width(w), height(h) {}
+  Impl(core::VulkanContext& c, int w, int h, RenderOptions o)
+      : ctx(c),
+        dev(c.device()),
+        width(w),
+        height(h),
+        options(o),
+        eyeFormat(o.srgb ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM) {}
 
   bool allocate(VkMemoryRequirements req, VkMemoryPropertyFlags flags, UniqueMemory* out, std::string* error,
                 VkMemoryPropertyFlags preferred = 0) {
@@ -108,13 +118,15 @@ struct SceneRenderer::Impl {
   }
 
   bool makeImage(VkFormat format, VkImageUsageFlags usage, VkSampleCountFlagBits samples, uint32_t w,
-                 uint32_t h, GpuImage* out, std::string* error) {
+                 uint32_t h, GpuImage* out, std::string* error, uint32_t mipLevels = 1,
+                 VkImageCreateFlags flags = 0) {
     VkImageCreateInfo ci{};
     ci.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
+    ci.flags = flags;
     ci.imageType = VK_IMAGE_TYPE_2D;
     ci.format = format;
     ci.extent = {w, h, 1};
-    ci.mipLevels = 1;
+    ci.mipLevels = mipLevels;
     ci.arrayLayers = 1;
     ci.samples = samples;
     ci.tiling = VK_IMAGE_TILING_OPTIMAL;
@@ -128,6 +140,7 @@ struct SceneRenderer::Impl {
     out->image = UniqueImage(dev, img);
     out->format = format;
     out->usage = usage;
+    out->mutableFormat = (flags & VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT) != 0;
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(dev, img, &req);
     if (!allocate(req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, &out->memory, error)) return false;
@@ -140,7 +153,7 @@ struct SceneRenderer::Impl {
     vi.format = format;
     vi.subresourceRange = {
         depth ? VkImageAspectFlags(VK_IMAGE_ASPECT_DEPTH_BIT) : VkImageAspectFlags(VK_IMAGE_ASPECT_COLOR_BIT),
-        0, 1, 0, 1};
+        0, mipLevels, 0, 1};
     VkImageView view = VK_NULL_HANDLE;
     if (VkResult r = vkCreateImageView(dev, &vi, nullptr, &view); r != VK_SUCCESS) {
       *error = vkError("vkCreateImageView", r);
@@ -205,12 +218,12 @@ struct SceneRenderer::Impl {
                          nullptr, 0, nullptr, 1, &b);
   }
 
-  bool makeRenderPass(VkFormat colorFormat, VkSampleCountFlagBits samples, bool storeDepth,
+  bool makeRenderPass(VkFormat attachmentFormat, VkSampleCountFlagBits samples, bool storeDepth,
                       UniqueRenderPass* out, std::string* error) {
     const bool msaa = samples != VK_SAMPLE_COUNT_1_BIT;
     std::vector<VkAttachmentDescription> atts;
     VkAttachmentDescription color{};
-    color.format = colorFormat;
+    color.format = attachmentFormat;
     color.samples = samples;
     color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
     color.storeOp = msaa ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE;
@@ -386,15 +399,21 @@ struct SceneRenderer::Impl {
   }
 
   bool uploadTexture(const Rgba8& src, std::string* error) {
+    // Trilinear sampling needs the whole chain, built on the CPU (box filter in the texture's own
+    // colour space: linear light for sRGB textures).
+    const std::vector<Rgba8> levels = options.mipmaps ? mipChain(src, options.srgb) : std::vector<Rgba8>{src};
+    size_t bytes = 0;
+    for (const Rgba8& l : levels) bytes += l.pixels.size();
     GpuImage tex;
-    if (!makeImage(kColorFormat, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
-                   VK_SAMPLE_COUNT_1_BIT, uint32_t(src.width), uint32_t(src.height), &tex, error)) {
+    if (!makeImage(eyeFormat, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                   VK_SAMPLE_COUNT_1_BIT, uint32_t(src.width), uint32_t(src.height), &tex, error,
+                   uint32_t(levels.size()))) {
       return false;
     }
     // A staging buffer of its own: textures may be larger than the readback buffer.
     VkBufferCreateInfo bci{};
     bci.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
-    bci.size = src.pixels.size();
+    bci.size = bytes;
     bci.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     VkBuffer buf = VK_NULL_HANDLE;
     if (VkResult r = vkCreateBuffer(dev, &bci, nullptr, &buf); r != VK_SUCCESS) {
@@ -412,7 +431,17 @@ struct SceneRenderer::Impl {
     vkBindBufferMemory(dev, buf, mem.get(), 0);
     void* ptr = nullptr;
     vkMapMemory(dev, mem.get(), 0, VK_WHOLE_SIZE, 0, &ptr);
-    std::memcpy(ptr, src.pixels.data(), src.pixels.size());
+    std::vector<VkBufferImageCopy> regions;
+    size_t offset = 0;
+    for (size_t i = 0; i < levels.size(); ++i) {
+      std::memcpy(static_cast<uint8_t*>(ptr) + offset, levels[i].pixels.data(), levels[i].pixels.size());
+      VkBufferImageCopy region{};
+      region.bufferOffset = offset;
+      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(i), 0, 1};
+      region.imageExtent = {uint32_t(levels[i].width), uint32_t(levels[i].height), 1};
+      regions.push_back(region);
+      offset += levels[i].pixels.size();
+    }
     vkUnmapMemory(dev, mem.get());
     if (!beginImpl(error)) return false;
     VkImageMemoryBarrier b{};
@@ -423,13 +452,11 @@ struct SceneRenderer::Impl {
     b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     b.image = tex.image.get();
-    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, uint32_t(levels.size()), 0, 1};
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
                          nullptr, 0, nullptr, 1, &b);
-    VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageExtent = {uint32_t(src.width), uint32_t(src.height), 1};
-    vkCmdCopyBufferToImage(cmd, buf, tex.image.get(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    vkCmdCopyBufferToImage(cmd, buf, tex.image.get(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                           uint32_t(regions.size()), regions.data());
     b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
     b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
@@ -518,10 +545,12 @@ struct SceneRenderer::Impl {
 
     sci.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO;
     sci.magFilter = VK_FILTER_LINEAR;
-    sci.minFilter = VK_FILTER_LINEAR;  // no mipmaps: minified textures alias, as in seed 003's viewer
-    sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    sci.minFilter = VK_FILTER_LINEAR;
+    // Trilinear, as real apps sample; without mipmaps minified textures alias (seed 003's viewer,
+    // the worst case).
+    sci.mipmapMode = options.mipmaps ? VK_SAMPLER_MIPMAP_MODE_LINEAR : VK_SAMPLER_MIPMAP_MODE_NEAREST;
     sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT;
-    sci.maxLod = 0.0f;
+    sci.maxLod = options.mipmaps ? VK_LOD_CLAMP_NONE : 0.0f;
     VkSampler s = VK_NULL_HANDLE;
     vkCreateSampler(dev, &sci, nullptr, &s);
     sampler = UniqueSampler(dev, s);
@@ -587,12 +616,12 @@ struct SceneRenderer::Impl {
         limits.framebufferColorSampleCounts & limits.framebufferDepthSampleCounts;
     msaaSupported = {(counts & VK_SAMPLE_COUNT_2_BIT) != 0, (counts & VK_SAMPLE_COUNT_4_BIT) != 0};
     const uint32_t w = uint32_t(width), h = uint32_t(height);
-    if (!makeRenderPass(kColorFormat, VK_SAMPLE_COUNT_1_BIT, true, &basePass, error) ||
+    if (!makeRenderPass(eyeFormat, VK_SAMPLE_COUNT_1_BIT, true, &basePass, error) ||
         !makePipeline(basePass.get(), VK_SAMPLE_COUNT_1_BIT, false, &basePipeline, error)) {
       return false;
     }
     for (int eye = 0; eye < 2; ++eye) {
-      if (!makeImage(kColorFormat,
+      if (!makeImage(eyeFormat,
                      VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
                          VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                      VK_SAMPLE_COUNT_1_BIT, w, h, &baseColor[eye], error) ||
@@ -604,28 +633,29 @@ struct SceneRenderer::Impl {
                            &baseFb[eye], error)) {
         return false;
       }
-      if (!makeImage(kColorFormat,
+      // sRGB outputs are written through a UNORM storage view, as the layer writes sRGB swapchains.
+      if (!makeImage(eyeFormat,
                      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
                          VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
-                     VK_SAMPLE_COUNT_1_BIT, w, h, &outputs[eye], error)) {
+                     VK_SAMPLE_COUNT_1_BIT, w, h, &outputs[eye], error, 1,
+                     options.srgb ? VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT : 0)) {
         return false;
       }
     }
     for (int i = 0; i < 2; ++i) {
       if (!msaaSupported[i]) continue;
       const VkSampleCountFlagBits sc = i == 0 ? VK_SAMPLE_COUNT_2_BIT : VK_SAMPLE_COUNT_4_BIT;
-      if (!makeRenderPass(kColorFormat, sc, false, &msaaPass[i], error) ||
+      if (!makeRenderPass(eyeFormat, sc, false, &msaaPass[i], error) ||
           !makePipeline(msaaPass[i].get(), sc, false, &msaaPipeline[i], error) ||
-          !makeImage(kColorFormat,
-                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT, sc, w, h,
-                     &msaaColor[i], error) ||
+          !makeImage(eyeFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
+                     sc, w, h, &msaaColor[i], error) ||
           !makeImage(kDepthFormat,
                      VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
                      sc, w, h, &msaaDepth[i], error)) {
         return false;
       }
       for (int eye = 0; eye < 2; ++eye) {
-        if (!makeImage(kColorFormat,
+        if (!makeImage(eyeFormat,
                        VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
                            VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                        VK_SAMPLE_COUNT_1_BIT, w, h, &msaaResolve[i][eye], error) ||
@@ -732,8 +762,9 @@ SceneRenderer::~SceneRenderer() {
 }
 
 std::unique_ptr<SceneRenderer> SceneRenderer::create(core::VulkanContext& context, int width, int height,
-                                                     const std::vector<Rgba8>& textures, std::string* error) {
-  auto impl = std::make_unique<Impl>(context, width, height);
+                                                     const std::vector<Rgba8>& textures,
+                                                     RenderOptions options, std::string* error) {
+  auto impl = std::make_unique<Impl>(context, width, height, options);
   if (!impl->init(textures, error)) return nullptr;
   return std::unique_ptr<SceneRenderer>(new SceneRenderer(std::move(impl)));
 }
@@ -837,7 +868,11 @@ bool SceneRenderer::renderGroundTruth(const EyeCamera& cam, const DrawList& draw
   if (m.accumFormat == VK_FORMAT_R32G32B32A32_SFLOAT) {
     const float* p = static_cast<const float*>(m.stagingPtr);
     for (size_t i = 0; i < n; ++i) {
-      for (int c = 0; c < 3; ++c) img.rgb[i * 3 + c] = std::clamp(p[i * 4 + c], 0.0f, 1.0f);
+      for (int c = 0; c < 3; ++c) {
+        // Averaged in linear light when sRGB; the metrics compare display-encoded values.
+        const float v = std::clamp(p[i * 4 + c], 0.0f, 1.0f);
+        img.rgb[i * 3 + c] = m.options.srgb ? linearToSrgb(v) : v;
+      }
     }
   } else {
     *error = "ground truth needs a blendable R32G32B32A32_SFLOAT target";
@@ -868,6 +903,7 @@ core::ImageRef refOf(const GpuImage& img, int w, int h) {
   r.usage = img.usage;
   r.layout = VK_IMAGE_LAYOUT_GENERAL;
   r.finalLayout = VK_IMAGE_LAYOUT_GENERAL;
+  r.mutableFormat = img.mutableFormat;
   return r;
 }
 }  // namespace

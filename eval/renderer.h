@@ -39,10 +39,16 @@ struct RenderedView {
   DepthMap depth;
 };
 
+struct RenderOptions {
+  bool srgb = true;     // sRGB eye images and textures (real swapchains are sRGB); false: UNORM
+  bool mipmaps = true;  // trilinear mipmapped textures (as real apps); false: base level only
+};
+
 class SceneRenderer {
  public:
   static std::unique_ptr<SceneRenderer> create(core::VulkanContext& context, int width, int height,
-                                               const std::vector<Rgba8>& textures, std::string* error);
+                                               const std::vector<Rgba8>& textures, RenderOptions options,
+                                               std::string* error);
   ~SceneRenderer();
   SceneRenderer(const SceneRenderer&) = delete;
   SceneRenderer& operator=(const SceneRenderer&) = delete;
@@ -55,7 +61,8 @@ class SceneRenderer {
   // samples = 2 or 4; resolved into eye `eye`'s MSAA target of that sample count.
   bool renderMsaa(int samples, int eye, const EyeCamera& cam, const DrawList& draws, Image* out,
                   double* gpuMs, std::string* error);
-  // gridSize x gridSize stratified jittered renders, box-filtered (noise is never added).
+  // gridSize x gridSize stratified jittered renders, box-filtered in linear light when sRGB (noise
+  // is never added); returned display-encoded like every other image.
   bool renderGroundTruth(const EyeCamera& cam, const DrawList& draws, int gridSize, Image* out,
                          std::string* error);
   // Reads one of the filter output images back.

@@ -1,13 +1,22 @@
 #include "suite.h"
 
 #include "camera.h"
+#include "corpus.h"
+#include "crops.h"
 #include "image.h"
 #include "metrics.h"
+#include "oracle.h"
+#include "pictures.h"
 #include "renderer.h"
+#include "results.h"
+#include "scenario.h"
 #include "scene.h"
+#include "targets.h"
+#include "variants.h"
 #include "warp.h"
 
 #include "steadyxr/core/filter.h"
+#include "steadyxr/core/jitter.h"
 #include "steadyxr/core/params.h"
 #include "steadyxr/core/view_math.h"
 #include "steadyxr/core/vulkan_context.h"
@@ -48,153 +57,21 @@ core::Fov eyeFov(int eye) {
   return f;
 }
 
-struct Scenario {
-  std::string label;
-  std::string scene;
-  std::string motion;  // preset name or trace path
-  bool trace = false;
-  std::string picture;
-  bool sweeps = true;    // run the parameter-sweep variants here
-  double leadSec = 0.0;  // frames start this long before the stream (held at its t = 0 pose)
-};
-
-struct Variant {
-  std::string name;
-  core::Params params;
-  int source = 1;  // 1 = the 1-sample render; 2 / 4 = MSAA
-  bool sweep = false;
-  std::unique_ptr<core::Filter> filter;
-};
-
 // Running sums of one (scenario, variant).
 struct Accum {
   double sqErr = 0, sqN = 0, ssimSum = 0, ssimN = 0;
-  double mtcdSum = 0, mtcdN = 0, mtcdDispSum = 0, mtcdDispN = 0;
+  double mtcdSum = 0, mtcdN = 0, tempErrSum = 0, tempErrN = 0, mtcdDispSum = 0, mtcdDispN = 0;
   double sqErrDisp = 0, sqDispN = 0, errPxDisp = 0, errPxDispN = 0;
-  double stereoSum = 0, stereoN = 0;
+  double stereoSum = 0, stereoN = 0, stereoErrSum = 0, stereoErrN = 0;
   double gpuTemporal = 0, gpuStereo = 0, gpuOther = 0, gpuN = 0;
   double timedWallMs = 0, timedGpuMs = 0;  // medians of the back-to-back timing frames
   double cpuUs = 0, cpuN = 0, renderMs = 0, renderN = 0;
+  std::vector<double> frameRmse;  // per frame, both eyes (ghosting per frame)
   std::array<Image, 2> prev, prevDisplay;
-};
-
-struct ResultRow {
-  std::string scenario, scene, motion, picture, method, filterMethod;
-  bool sweep = false, stereo = false;
-  int source = 1;
-  double mtcd = 0, mtcdDisplay = 0, rmse = 0, ssim = 0, rmseDisplay = 0, errPxDisplayPct = 0;
-  double stereoDiff = 0, stereoDiffGt = 0, stereoGap = 0;
-  double gpuMs = 0, gpuTemporalMs = 0, gpuStereoMs = 0, gpuOtherMs = 0, renderMs = 0, costMs = 0, cpuUs = 0;
 };
 
 double safeDiv(double a, double b) {
   return b > 0 ? a / b : 0.0;
-}
-
-std::vector<std::string> defaultMethods(bool sweeps) {
-  std::vector<std::string> m;
-  for (const char* base : {"none", "fxaa", "msaa2", "msaa4", "taa", "hmtaa", "vtaa", "hybrid"}) {
-    m.push_back(base);
-    m.push_back(std::string(base) + "+stereo");
-  }
-  m.push_back("default");
-  if (sweeps) {
-    for (const char* s : {"hmtaa@hmax=10", "hmtaa@hmax=50", "hmtaa@wmin=0.15", "hmtaa@wmin=0.5",
-                          "taa@alpha=0.05", "taa@alpha=0.2", "default@amin=0.02", "default@amin=0.15",
-                          "default@beta=0.7", "default@catmull=1"}) {
-      m.push_back(s);
-    }
-  }
-  return m;
-}
-
-// "<method>[@key=value]...": a method name applyMethodName understands (or msaa2/msaa4[+stereo])
-// with parameter overrides for sweeps.
-bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
-  std::vector<std::string> parts;
-  std::stringstream ss(spec);
-  for (std::string p; std::getline(ss, p, '@');) parts.push_back(p);
-  if (parts.empty()) {
-    *error = "empty method";
-    return false;
-  }
-  std::string base = parts[0];
-  v->source = 1;
-  for (int s : {2, 4}) {
-    const std::string msaa = "msaa" + std::to_string(s);
-    if (base == msaa || base == msaa + "+stereo") {
-      // MSAA images go through the core as pass-through, or stereo blending only.
-      v->source = s;
-      base = base == msaa ? "none" : "stereo";
-    }
-  }
-  auto params = core::applyMethodName(base);
-  if (!params) {
-    *error = "unknown method '" + parts[0] + "'";
-    return false;
-  }
-  for (size_t i = 1; i < parts.size(); ++i) {
-    const auto eq = parts[i].find('=');
-    if (eq == std::string::npos) {
-      *error = "bad parameter '" + parts[i] + "' in '" + spec + "'";
-      return false;
-    }
-    const std::string key = parts[i].substr(0, eq);
-    float value = 0.0f;
-    try {
-      value = std::stof(parts[i].substr(eq + 1));
-    } catch (...) {
-      *error = "bad value in '" + parts[i] + "'";
-      return false;
-    }
-    if (key == "hmax")
-      params->hMaxDegPerSec = value;
-    else if (key == "wmin")
-      params->wMin = value;
-    else if (key == "wlb")
-      params->wLowerBound = value;
-    else if (key == "amin")
-      params->vtaaAlphaMin = value;
-    else if (key == "alpha")
-      params->taaAlpha = value;
-    else if (key == "gamma")
-      params->taaClipGamma = value;
-    else if (key == "beta")
-      params->stereoBetaMin = value;
-    else if (key == "d")
-      params->sampleD[0] = value;
-    else if (key == "catmull")
-      params->historyFilter = value != 0.0f ? core::HistoryFilter::CatmullRom : core::HistoryFilter::Bilinear;
-    else if (key == "floor")  // steady's ablation switches and constants (core::Params)
-      params->steadyAlphaFloor = value;
-    else if (key == "conf")
-      params->steadyConfidence = value != 0.0f;
-    else if (key == "reject")
-      params->steadyClipRejects = value != 0.0f;
-    else if (key == "blur")
-      params->steadyBlurBudgetPx2 = value;
-    else if (key == "footprint")
-      params->steadyFootprint = value;
-    else if (key == "near")
-      params->steadyNearestDepthM = value;
-    else if (key == "interp")
-      params->steadyInterpolated = value != 0.0f;
-    else {
-      *error = "unknown parameter '" + key +
-               "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d, catmull, floor, conf, reject, blur, "
-               "footprint, near, interp)";
-      return false;
-    }
-    v->sweep = true;
-  }
-  const std::string problem = core::validate(*params);
-  if (!problem.empty()) {
-    *error = "method '" + spec + "': " + problem;
-    return false;
-  }
-  v->params = *params;
-  v->name = spec;
-  return true;
 }
 
 std::vector<Scenario> buildScenarios(const Options& o, std::string* error) {
@@ -207,6 +84,9 @@ std::vector<Scenario> buildScenarios(const Options& o, std::string* error) {
     s.motion = motion;
     s.trace = trace;
     s.picture = picture;
+    s.motionClass = trace ? "trace" : motionClassOf(motion);
+    s.pictureClass =
+        scene == "imageviewer" || scene == "noisy" ? pictureClass(textureKey(picture)) : "scene:" + scene;
     const std::string motionLabel = trace ? std::filesystem::path(motion).stem().string() : motion;
     s.label = scene + "-" + motionLabel;
     if (scene == "imageviewer" || scene == "noisy") s.label += "-" + textureKey(picture);
@@ -220,12 +100,15 @@ std::vector<Scenario> buildScenarios(const Options& o, std::string* error) {
       return {};
     }
   }
+  if (o.corpus) return corpusScenarios(o);
   if (o.scenes.empty() && o.motions.empty()) {
     // The default suite: each scene with the head motion it is about.
     // Sweeps (extra points) only where they matter, to keep the default run to a few minutes.
     const size_t nImages =
         o.quick ? 1 : std::min<size_t>(images.size(), o.images.empty() ? 2 : images.size());
     for (size_t i = 0; i < nImages; ++i) add("imageviewer", "fixation", false, images[i]);
+    // A zone plate up to Nyquist: the shimmer case a photo does not show (unless --images chose).
+    if (!o.quick && o.images.empty()) add("imageviewer", "fixation", false, "zoneplate");
     add("imageviewer", "pursuit", false, images[0]);
     add("imageviewer", "fastturn", false, images[0]);
     add("thin", "fixation", false, images[0]);
@@ -286,180 +169,103 @@ struct HeadPose {
   glm::vec3 position{0.0f};
 };
 
-std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h) {
+// jitterPx: the layer's sub-pixel jitter (core::jitterFov), zero for an unjittered render.
+std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h,
+                                    glm::vec2 jitterPx = glm::vec2(0.0f)) {
   std::array<EyeCamera, 2> cams;
   for (int eye = 0; eye < 2; ++eye) {
     core::Pose p;
     p.orientation = head.orientation;
     p.position = head.position + head.orientation * glm::vec3(eye == 0 ? -kIpdM / 2 : kIpdM / 2, 0.0f, 0.0f);
-    cams[eye] = makeEyeCamera(p, eyeFov(eye), w, h, kNearZ, kFarZ);
+    const core::Fov fov = core::jitterFov(eyeFov(eye), jitterPx.x, jitterPx.y, uint32_t(w), uint32_t(h));
+    cams[eye] = makeEyeCamera(p, fov, w, h, kNearZ, kFarZ);
   }
   return cams;
 }
 
-std::string csvEscape(const std::string& s) {
-  return s.find(',') == std::string::npos ? s : "\"" + s + "\"";
-}
-
-std::string fmt(double v, int prec = 5) {
-  std::ostringstream os;
-  os << std::setprecision(prec) << v;
-  return os.str();
-}
-
-void writeResultsCsv(const std::string& path, const std::vector<ResultRow>& rows) {
-  std::ofstream f(path);
-  f << "scenario,scene,motion,picture,method,filter_method,sweep,stereo,samples,mtcd,mtcd_display,rmse,ssim,"
-       "rmse_display,error_pixels_display_pct,stereo_diff,stereo_diff_gt,stereo_gap,gpu_ms,gpu_temporal_ms,"
-       "gpu_stereo_ms,gpu_other_ms,render_ms,cost_ms,cpu_us\n";
-  for (const ResultRow& r : rows) {
-    f << csvEscape(r.scenario) << ',' << r.scene << ',' << csvEscape(r.motion) << ',' << r.picture << ','
-      << r.method << ',' << r.filterMethod << ',' << r.sweep << ',' << r.stereo << ',' << r.source << ','
-      << fmt(r.mtcd, 6) << ',' << fmt(r.mtcdDisplay, 6) << ',' << fmt(r.rmse, 6) << ',' << fmt(r.ssim, 6)
-      << ',' << fmt(r.rmseDisplay, 6) << ',' << fmt(r.errPxDisplayPct, 6) << ',' << fmt(r.stereoDiff, 6)
-      << ',' << fmt(r.stereoDiffGt, 6) << ',' << fmt(r.stereoGap, 6) << ',' << fmt(r.gpuMs, 6) << ','
-      << fmt(r.gpuTemporalMs, 6) << ',' << fmt(r.gpuStereoMs, 6) << ',' << fmt(r.gpuOtherMs, 6) << ','
-      << fmt(r.renderMs, 6) << ',' << fmt(r.costMs, 6) << ',' << fmt(r.cpuUs, 6) << '\n';
-  }
-}
-
-std::string jsonStr(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    o += c;
-  }
-  return o + "\"";
-}
-
-struct TargetCheck {
-  std::string name, detail;
-  bool met = false;
-  bool evaluated = false;
+// What every method's output of one frame is scored against.
+struct FrameTruth {
+  std::array<Image, 2> gt, prevGt;  // prevGt is empty on a case's first frame
+  std::array<EyeCamera, 2> cams;    // the unjittered eye cameras (output grid)
+  std::array<DepthMap, 2> depth;    // their 1-sample depth (stereo correspondences)
+  std::vector<std::array<EyeCamera, 2>> dispCams;
+  std::vector<std::array<Image, 2>> dispGt;
 };
 
-const ResultRow* findRow(const std::vector<ResultRow>& rows, const std::string& scenario,
-                         const std::string& m) {
-  for (const ResultRow& r : rows) {
-    if (r.scenario == scenario && r.method == m) return &r;
+struct FrameScore {
+  double rmse = 0, ssim = 0, mtcd = -1, tempErr = -1, mtcdDisp = -1, rmseDisp = 0, stereoDiff = 0,
+         stereoErr = 0;
+};
+
+// Scores one frame's output (both eyes) into the method's running sums.
+FrameScore scoreFrame(Accum& a, const std::array<Image, 2>& out, const FrameTruth& ft, const Options& o) {
+  FrameScore s;
+  const double nPix = double(out[0].width) * out[0].height;
+  const int ratio = int(ft.dispCams.size());
+  double frameSq = 0, frameSqDisp = 0;
+  for (int eye = 0; eye < 2; ++eye) {
+    const double mse = meanSquaredError(out[eye], ft.gt[eye]);
+    frameSq += mse / 2;
+    a.sqErr += mse * nPix * 3;
+    a.sqN += nPix * 3;
+    const double ss = ssim(out[eye], ft.gt[eye]);
+    s.ssim += ss / 2;
+    a.ssimSum += ss;
+    a.ssimN += 1;
+    if (!a.prev[eye].empty()) {
+      const double m = 255.0 * temporalColorDifference(a.prev[eye], out[eye]);
+      s.mtcd = (s.mtcd < 0 ? 0 : s.mtcd) + m / 2;
+      a.mtcdSum += m;
+      a.mtcdN += 1;
+      const double te = 255.0 * temporalErrorVsTruth(a.prev[eye], out[eye], ft.prevGt[eye], ft.gt[eye]);
+      s.tempErr = (s.tempErr < 0 ? 0 : s.tempErr) + te / 2;
+      a.tempErrSum += te;
+      a.tempErrN += 1;
+    }
+    // Display stage (a): the runtime's rotational timewarp of this frame until the next one.
+    for (int k = 0; k < ratio; ++k) {
+      const Image shown = k == 0 ? out[eye] : rotationalTimewarp(out[eye], ft.cams[eye], ft.dispCams[k][eye]);
+      const double dmse = meanSquaredError(shown, ft.dispGt[k][eye]);
+      frameSqDisp += dmse / (2 * ratio);
+      a.sqErrDisp += dmse;
+      a.sqDispN += 1;
+      a.errPxDisp += double(errorPixels(shown, ft.dispGt[k][eye], o.errorThreshold)) / nPix;
+      a.errPxDispN += 1;
+      if (!a.prevDisplay[eye].empty()) {
+        const double m = 255.0 * temporalColorDifference(a.prevDisplay[eye], shown);
+        s.mtcdDisp = (s.mtcdDisp < 0 ? 0 : s.mtcdDisp) + m / (2 * ratio);
+        a.mtcdDispSum += m;
+        a.mtcdDispN += 1;
+      }
+      a.prevDisplay[eye] = shown;
+    }
   }
-  return nullptr;
+  s.rmse = std::sqrt(frameSq);
+  s.rmseDisp = std::sqrt(frameSqDisp);
+  a.frameRmse.push_back(s.rmse);
+  s.stereoDiff =
+      stereoDifference(out[0], ft.depth[0], ft.cams[0], out[1], ft.depth[1], ft.cams[1]).meanSquared;
+  a.stereoSum += s.stereoDiff;
+  a.stereoN += 1;
+  s.stereoErr = 255.0 * stereoErrorPerPixel(out[0], out[1], ft.gt[0], ft.gt[1], ft.depth[0], ft.cams[0],
+                                            ft.depth[1], ft.cams[1]);
+  a.stereoErrSum += s.stereoErr;
+  a.stereoErrN += 1;
+  a.prev = out;
+  return s;
 }
 
-std::vector<TargetCheck> checkTargets(const std::vector<ResultRow>& rows,
-                                      const std::vector<Scenario>& scenarios,
-                                      const std::string& defaultTemporal) {
-  std::vector<TargetCheck> out;
-  // 1. MTCD of the default <= 40 % of none, image viewer under fixation.
-  {
-    TargetCheck t{"default MTCD <= 40% of none (imageviewer, fixation)", "", true, false};
-    for (const Scenario& s : scenarios) {
-      if (s.scene != "imageviewer" || s.motion != "fixation") continue;
-      const ResultRow *d = findRow(rows, s.label, "default"), *n = findRow(rows, s.label, "none");
-      if (!d || !n) continue;
-      const double ratio = safeDiv(d->mtcd, n->mtcd);
-      t.evaluated = true;
-      t.met = t.met && ratio <= 0.40;
-      t.detail += s.label + ": " + fmt(100 * ratio, 3) + "%; ";
-    }
-    out.push_back(t);
-  }
-  // 2. RMSE below taa in every scenario, >= 20 % below on average.
-  {
-    TargetCheck t{"default RMSE < taa everywhere, >= 20% below on average", "", true, false};
-    double sum = 0;
-    int n = 0;
-    for (const Scenario& s : scenarios) {
-      const ResultRow *d = findRow(rows, s.label, "default"), *a = findRow(rows, s.label, "taa");
-      if (!d || !a) continue;
-      const double rel = safeDiv(d->rmse, a->rmse);
-      t.evaluated = true;
-      t.met = t.met && rel < 1.0;
-      sum += 1.0 - rel;
-      ++n;
-      t.detail += s.label + ": " + fmt(100 * (1 - rel), 3) + "% below; ";
-    }
-    if (n > 0) {
-      t.met = t.met && sum / n >= 0.20;
-      t.detail += "average " + fmt(100 * sum / n, 3) + "% below";
-    }
-    out.push_back(t);
-  }
-  // 3. No ghosting: fast turn and moving object, RMSE <= none's + 5 %.
-  {
-    TargetCheck t{"no ghosting: default RMSE <= none +5% (fastturn, moving)", "", true, false};
-    for (const Scenario& s : scenarios) {
-      if (s.motion != "fastturn" && s.scene != "moving") continue;
-      const ResultRow *d = findRow(rows, s.label, "default"), *n = findRow(rows, s.label, "none");
-      if (!d || !n) continue;
-      const double rel = safeDiv(d->rmse, n->rmse);
-      t.evaluated = true;
-      t.met = t.met && rel <= 1.05;
-      t.detail += s.label + ": " + fmt(100 * rel, 4) + "% of none; ";
-    }
-    out.push_back(t);
-  }
-  // 4. Stereo pass: stereo difference >= 30 % closer to ground truth's, no rise in RMSE.
-  {
-    TargetCheck t{"stereo pass: stereo gap -30% or better, RMSE not higher (" + defaultTemporal + ")", "",
-                  true, false};
-    for (const Scenario& s : scenarios) {
-      const ResultRow *w = findRow(rows, s.label, defaultTemporal + "+stereo"),
-                      *wo = findRow(rows, s.label, defaultTemporal);
-      if (!w || !wo) continue;
-      const double closer = 1.0 - safeDiv(w->stereoGap, wo->stereoGap);
-      const bool ok = closer >= 0.30 && w->rmse <= wo->rmse * 1.0005;
-      t.evaluated = true;
-      t.met = t.met && ok;
-      t.detail += s.label + ": gap " + fmt(100 * closer, 3) + "% closer, RMSE " +
-                  fmt(100 * (safeDiv(w->rmse, wo->rmse) - 1), 3) + "%; ";
-    }
-    out.push_back(t);
-  }
-  for (TargetCheck& t : out) {
-    if (!t.evaluated) {
-      t.met = false;
-      t.detail = "not evaluated (scenario or method not in this run)";
-    }
-  }
-  return out;
-}
+// The methods shown in crops, in this order, where the run has them.
+const std::vector<std::string> kCropMethods = {
+    "none", "fxaa", "msaa4", "taa", "taa+jitter", "hmtaa", "vtaa", "default", "default+jitter", "oracle"};
+// The animated comparison's columns after the ground truth.
+const std::vector<std::string> kAnimationMethods = {"none", "taa+jitter", "default"};
 
-void writeJson(const std::string& path, const Options& o, const std::vector<ResultRow>& rows,
-               const std::vector<TargetCheck>& targets, const std::string& device, double seconds) {
-  std::ofstream f(path);
-  f << "{\n  \"config\": {\"width\": " << o.width << ", \"height\": " << o.height
-    << ", \"frames\": " << o.frames << ", \"seed\": " << o.seed << ", \"app_hz\": " << o.appHz
-    << ", \"display_hz\": " << o.displayHz << ", \"gt_samples_per_pixel\": " << o.gtGrid * o.gtGrid
-    << ", \"ipd_m\": " << kIpdM << ", \"error_threshold\": " << o.errorThreshold
-    << ", \"device\": " << jsonStr(device)
-    << ", \"color_space\": \"display-encoded (sRGB) 8-bit values scaled to [0,1]; MTCD in 8-bit code values\""
-    << ", \"wall_seconds\": " << fmt(seconds, 4) << "},\n  \"results\": [\n";
-  for (size_t i = 0; i < rows.size(); ++i) {
-    const ResultRow& r = rows[i];
-    f << "    {\"scenario\": " << jsonStr(r.scenario) << ", \"scene\": " << jsonStr(r.scene)
-      << ", \"motion\": " << jsonStr(r.motion) << ", \"picture\": " << jsonStr(r.picture)
-      << ", \"method\": " << jsonStr(r.method) << ", \"filter_method\": " << jsonStr(r.filterMethod)
-      << ", \"sweep\": " << (r.sweep ? "true" : "false") << ", \"stereo\": " << (r.stereo ? "true" : "false")
-      << ", \"samples\": " << r.source << ", \"mtcd\": " << fmt(r.mtcd, 6)
-      << ", \"mtcd_display\": " << fmt(r.mtcdDisplay, 6) << ", \"rmse\": " << fmt(r.rmse, 6)
-      << ", \"ssim\": " << fmt(r.ssim, 6) << ", \"rmse_display\": " << fmt(r.rmseDisplay, 6)
-      << ", \"error_pixels_display_pct\": " << fmt(r.errPxDisplayPct, 6)
-      << ", \"stereo_diff\": " << fmt(r.stereoDiff, 6) << ", \"stereo_diff_gt\": " << fmt(r.stereoDiffGt, 6)
-      << ", \"stereo_gap\": " << fmt(r.stereoGap, 6) << ", \"gpu_ms\": " << fmt(r.gpuMs, 6)
-      << ", \"gpu_temporal_ms\": " << fmt(r.gpuTemporalMs, 6)
-      << ", \"gpu_stereo_ms\": " << fmt(r.gpuStereoMs, 6) << ", \"gpu_other_ms\": " << fmt(r.gpuOtherMs, 6)
-      << ", \"render_ms\": " << fmt(r.renderMs, 6) << ", \"cost_ms\": " << fmt(r.costMs, 6)
-      << ", \"cpu_us\": " << fmt(r.cpuUs, 6) << "}" << (i + 1 < rows.size() ? "," : "") << "\n";
+int indexOf(const std::vector<Variant>& variants, const std::string& name) {
+  for (size_t i = 0; i < variants.size(); ++i) {
+    if (variants[i].name == name) return int(i);
   }
-  f << "  ],\n  \"targets\": [\n";
-  for (size_t i = 0; i < targets.size(); ++i) {
-    f << "    {\"target\": " << jsonStr(targets[i].name)
-      << ", \"evaluated\": " << (targets[i].evaluated ? "true" : "false")
-      << ", \"met\": " << (targets[i].met ? "true" : "false")
-      << ", \"detail\": " << jsonStr(targets[i].detail) << "}" << (i + 1 < targets.size() ? "," : "") << "\n";
-  }
-  f << "  ]\n}\n";
+  return -1;
 }
 
 }  // namespace
@@ -483,7 +289,10 @@ int runSuite(const Options& o) {
   }
   const std::string device = ctx->properties().deviceName;
   std::vector<Variant> variants;
-  for (const std::string& spec : o.methods.empty() ? defaultMethods(o.sweeps && !o.quick) : o.methods) {
+  const std::vector<std::string> specs = !o.methods.empty() ? o.methods
+                                         : o.corpus         ? corpusMethods()
+                                                            : defaultMethods(o.sweeps && !o.quick);
+  for (const std::string& spec : specs) {
     Variant v;
     if (!parseVariant(spec, &v, &error)) {
       std::cerr << "steadyxr-eval: " << error << "\n";
@@ -491,7 +300,11 @@ int runSuite(const Options& o) {
     }
     variants.push_back(std::move(v));
   }
-  std::filesystem::create_directories(o.outDir);
+  // Jittered methods run after the others each frame (their render replaces the 1-sample one in
+  // the eye targets), the CPU oracle last.
+  std::stable_partition(variants.begin(), variants.end(),
+                        [](const Variant& v) { return !v.jitter && !v.oracle; });
+  std::stable_partition(variants.begin(), variants.end(), [](const Variant& v) { return !v.oracle; });
   std::filesystem::create_directories(o.outDir + "/crops");
 
   // Every texture any scenario needs, uploaded once (index 0 = white).
@@ -509,25 +322,31 @@ int runSuite(const Options& o) {
     for (const std::string& name : wanted) {
       if (textures.find(textureKey(name)) != 0) continue;
       std::string warning;
-      textures.images.push_back(loadTextureOrFallback(name, o.picturesDir, &warning));
+      textures.images.push_back(isProceduralPicture(name)
+                                    ? proceduralPicture(name, o.height)
+                                    : loadTextureOrFallback(name, o.picturesDir, &warning));
       textures.names.push_back(textureKey(name));
       if (!warning.empty()) std::cerr << "steadyxr-eval: " << warning << "\n";
     }
   }
-  auto renderer = SceneRenderer::create(*ctx, o.width, o.height, textures.images, &error);
+  RenderOptions renderOptions;
+  renderOptions.srgb = !o.unorm;
+  renderOptions.mipmaps = o.mipmaps;
+  auto renderer = SceneRenderer::create(*ctx, o.width, o.height, textures.images, renderOptions, &error);
   if (!renderer) {
     std::cerr << "steadyxr-eval: renderer: " << error << "\n";
     return 1;
   }
-  std::vector<std::string> skipped;
   std::erase_if(variants, [&](const Variant& v) {
     if (renderer->supportsSamples(v.source)) return false;
-    skipped.push_back(v.name);
     std::cerr << "steadyxr-eval: skipping '" << v.name << "': " << v.source << "x MSAA not supported by "
               << device << "\n";
     return true;
   });
+  bool anyJitter = false;
   for (Variant& v : variants) {
+    anyJitter = anyJitter || v.jitter;
+    if (v.oracle) continue;
     v.filter = core::Filter::create(*ctx, v.params, &error);
     if (!v.filter) {
       std::cerr << "steadyxr-eval: filter '" << v.name << "': " << error << "\n";
@@ -535,21 +354,25 @@ int runSuite(const Options& o) {
     }
   }
   const std::string defaultTemporal = std::string(core::toString(core::kDefaultTemporalMethod));
+  const int noneIndex = indexOf(variants, "none"), defaultIndex = indexOf(variants, "default");
+  const std::string animateLabel = !o.animate.empty() ? o.animate : o.corpus ? "" : scenarios.front().label;
 
   std::vector<ResultRow> rows;
   std::ofstream series(o.outDir + "/timeseries.csv");
-  series << "scenario,method,frame,t_s,head_speed_deg_s,object_speed_m_s,mtcd,rmse,ssim,stereo_diff,"
-            "stereo_diff_gt,mtcd_display,rmse_display\n";
+  series << "scenario,method,frame,t_s,head_speed_deg_s,object_speed_m_s,mtcd,temporal_error,rmse,ssim,"
+            "stereo_diff,"
+            "stereo_diff_gt,stereo_error,mtcd_display,rmse_display\n";
   std::ofstream warpCsv(o.outDir + "/warp_errors.csv");
   warpCsv << "scenario,frame,step,extrapolation_ms,head_speed_deg_s,object_speed_m_s,mode,error_pixels,"
              "error_fraction\n";
 
   const double dt = 1.0 / o.appHz;
   const int ratio = std::max(1, int(std::lround(o.displayHz / o.appHz)));
-  const int totalFrames = int(scenarios.size()) * o.frames;
-  Progress progress(o.progress, totalFrames);
+  Progress progress(o.progress, int(scenarios.size()) * o.frames);
   int framesDone = 0;
   const size_t nPix = size_t(o.width) * o.height;
+  Oracle oracle(!o.unorm);
+  const CropWindow cropWindow = centreCrop(o.width, o.height);
 
   for (const Scenario& sc : scenarios) {
     Scene scene;
@@ -563,29 +386,49 @@ int runSuite(const Options& o) {
       std::cerr << "steadyxr-eval: motion '" << sc.motion << "': " << error << "\n";
       return 2;
     }
+    const double start = sc.startSec >= 0.0 ? sc.startSec : o.startSec;
+    const double lastSec =
+        start - sc.leadSec + (o.frames - 1) * dt + std::max(o.warpSteps, ratio) / o.displayHz;
+    if (stream->validUntilSec() < lastSec) {
+      // A trace shorter than the run is an error, not a silently held last pose.
+      std::cerr << "steadyxr-eval: motion '" << sc.motion << "' ends at " << stream->validUntilSec()
+                << " s, the run needs it until " << lastSec << " s (fewer --frames or an earlier --start)\n";
+      return 2;
+    }
     auto headAt = [&](double t) {
       const imu::MotionState m = stream->at(std::max(0.0, t));
       return HeadPose{glm::normalize(m.orientation), m.position + scene.headOffset(t)};
     };
     std::vector<Accum> acc(variants.size());
-    for (Variant& v : variants) v.filter->reset();
+    for (Variant& v : variants) {
+      if (v.filter) v.filter->reset();
+    }
+    oracle.reset();
+    const bool oracleHere = !scene.hasMovingObject;
     double gtStereoSum = 0, gtStereoN = 0;
-    HeadPose prevHead = headAt(o.startSec - sc.leadSec - dt);
-    std::array<Image, 2> lastGt;
-    std::vector<std::array<Image, 2>> lastOut(variants.size());
+    std::vector<double> headSpeeds;
+    FrameTruth ft;
+    std::vector<std::array<Image, 2>> lastOut(variants.size()), worstOut(variants.size());
+    std::array<Image, 2> worstGt;
+    double worstRatio = -1.0;
+    int worstFrame = -1;
     std::vector<std::optional<core::StereoFrame>> lastFrame(variants.size());
+    auto active = [&](const Variant& v) { return (!v.sweep || sc.sweeps) && (!v.oracle || oracleHere); };
 
     for (int f = 0; f < o.frames; ++f) {
-      const double t = o.startSec - sc.leadSec + f * dt;
+      const double t = start - sc.leadSec + f * dt;
       const HeadPose head = headAt(t);
-      const float headSpeed = core::angleBetweenDeg(prevHead.orientation, head.orientation) / float(dt);
-      prevHead = head;
+      // The head's angular speed at the frame (the stream's angular velocity: a trace's wx,wy,wz,
+      // the IMU path's gyro), not a difference of two frames' poses.
+      const float headSpeed = float(stream->headSpeedDegPerSec(std::max(0.0, t)));
+      headSpeeds.push_back(headSpeed);
       const auto cams = eyeCameras(head, o.width, o.height);
+      // The layer's jitter of this frame (xrLocateViews call f), as `jitter = 1` injects it.
+      const glm::vec2 jitter = core::haltonJitterPx(uint32_t(f));
       const float objSpeed = scene.objectSpeed(t);
 
       // The app's images (1 sample), MSAA baselines and the ground truth, both eyes.
       std::array<RenderedView, 2> base;
-      std::array<Image, 2> gt;
       std::array<std::array<Image, 2>, 2> msaa;
       double baseMs = 0;
       std::array<double, 2> msaaMs{0, 0};
@@ -594,10 +437,15 @@ int runSuite(const Options& o) {
         if (v.source == 2) needMsaa[0] = true;
         if (v.source == 4) needMsaa[1] = true;
       }
-      for (int eye = 0; eye < 2; ++eye) {
+      ft.prevGt = ft.gt;
+      auto drawsOf = [&](int eye) {
         DrawList draws = scene.drawsAt(t);
         draws.noiseSeed = uint32_t(f * 2 + eye + 1);
         if (o.noise > 0.0f) draws.noiseAmplitude = o.noise;
+        return draws;
+      };
+      for (int eye = 0; eye < 2; ++eye) {
+        const DrawList draws = drawsOf(eye);
         double ms = 0;
         if (!renderer->renderBase(eye, cams[eye], draws, &base[eye], &ms, &error)) {
           std::cerr << "steadyxr-eval: render: " << error << "\n";
@@ -613,133 +461,138 @@ int runSuite(const Options& o) {
           }
           msaaMs[i] += ms;
         }
-        if (!renderer->renderGroundTruth(cams[eye], draws, o.gtGrid, &gt[eye], &error)) {
+        if (!renderer->renderGroundTruth(cams[eye], draws, o.gtGrid, &ft.gt[eye], &error)) {
           std::cerr << "steadyxr-eval: ground truth: " << error << "\n";
           return 1;
         }
+        ft.depth[eye] = base[eye].depth;
       }
+      ft.cams = cams;
       const StereoDifference gtSd =
-          stereoDifference(gt[0], base[0].depth, cams[0], gt[1], base[1].depth, cams[1]);
+          stereoDifference(ft.gt[0], base[0].depth, cams[0], ft.gt[1], base[1].depth, cams[1]);
       gtStereoSum += gtSd.meanSquared;
       gtStereoN += 1;
 
       // Display stage references: head poses and ground truth at the display times in between.
-      std::vector<std::array<EyeCamera, 2>> dispCams(ratio);
-      std::vector<std::array<Image, 2>> dispGt(ratio);
-      for (int k = 0; k < ratio; ++k) {
+      ft.dispCams.assign(ratio, cams);
+      ft.dispGt.assign(ratio, ft.gt);
+      for (int k = 1; k < ratio; ++k) {
         const double td = t + k / o.displayHz;
-        dispCams[k] = k == 0 ? cams : eyeCameras(headAt(td), o.width, o.height);
+        ft.dispCams[k] = eyeCameras(headAt(td), o.width, o.height);
         for (int eye = 0; eye < 2; ++eye) {
-          if (k == 0) {
-            dispGt[k][eye] = gt[eye];
-            continue;
-          }
-          if (!renderer->renderGroundTruth(dispCams[k][eye], scene.drawsAt(td), o.gtGrid, &dispGt[k][eye],
-                                           &error)) {
+          if (!renderer->renderGroundTruth(ft.dispCams[k][eye], scene.drawsAt(td), o.gtGrid,
+                                           &ft.dispGt[k][eye], &error)) {
             std::cerr << "steadyxr-eval: ground truth: " << error << "\n";
             return 1;
           }
         }
       }
 
+      std::array<RenderedView, 2> jittered;
+      bool jitterRendered = false;
+      std::array<EyeCamera, 2> jitterCams = eyeCameras(head, o.width, o.height, jitter);
+      std::vector<std::array<Image, 2>> frameOut(variants.size());
       for (size_t vi = 0; vi < variants.size(); ++vi) {
         Variant& v = variants[vi];
         Accum& a = acc[vi];
-        if (v.sweep && !sc.sweeps) continue;
-        core::StereoFrame frame;
-        for (int eye = 0; eye < 2; ++eye) {
-          core::ViewFrame& view = frame.views[eye];
-          view.color = v.source == 1 ? renderer->baseColor(eye) : renderer->msaaColor(v.source, eye);
-          view.depth = renderer->baseDepth(eye, kNearZ, kFarZ);
-          view.pose = cams[eye].pose;
-          view.fov = cams[eye].fov;
-        }
-        frame.viewCount = 2;
-        frame.displayTimeNs = int64_t(std::llround((t + sc.leadSec + 1.0) * 1e9));  // positive, monotonic
-        frame.headSpeedDegPerSec = headSpeed;
-        frame.reset = f == 0;
-        core::StereoOutput output;
-        output.views = {renderer->output(0), renderer->output(1)};
-        const auto c0 = std::chrono::steady_clock::now();
-        const bool ok = v.filter->submit(frame, output, &error);
-        const auto c1 = std::chrono::steady_clock::now();
-        v.filter->waitIdle();
-        if (f == o.frames - 1) lastFrame[vi] = frame;
-        if (!ok) {
-          std::cerr << "\nsteadyxr-eval: filter '" << v.name << "' submit failed: " << error << "\n";
-          return 1;
-        }
-        // Timings skip the first frames: lavapipe compiles shaders on first use.
-        const bool warm = f >= std::min(2, o.frames - 1);
-        if (warm) {
-          a.cpuUs += std::chrono::duration<double, std::micro>(c1 - c0).count();
-          a.cpuN += 1;
-        }
-        if (auto tm = v.filter->lastTimings(); tm && warm) {
-          a.gpuTemporal += tm->temporalMs;
-          a.gpuStereo += tm->stereoMs;
-          a.gpuOther += tm->otherMs;
-          a.gpuN += 1;
-        }
-        if (warm) {
-          a.renderMs += v.source == 1 ? baseMs : msaaMs[v.source == 2 ? 0 : 1];
-          a.renderN += 1;
-        }
+        if (!active(v)) continue;
         std::array<Image, 2> out;
-        for (int eye = 0; eye < 2; ++eye) {
-          if (!renderer->readOutput(eye, &out[eye], &error)) {
-            std::cerr << "steadyxr-eval: readback: " << error << "\n";
+        if ((v.jitter || (v.oracle && anyJitter)) && !jitterRendered) {
+          // The jittered app frame: what the app renders with the fov the layer handed it.
+          for (int eye = 0; eye < 2; ++eye) {
+            if (!renderer->renderBase(eye, jitterCams[eye], drawsOf(eye), &jittered[eye], nullptr, &error)) {
+              std::cerr << "steadyxr-eval: render: " << error << "\n";
+              return 1;
+            }
+          }
+          jitterRendered = true;
+        }
+        if (v.oracle) {
+          const auto& src = anyJitter ? jittered : base;
+          const auto& srcCams = anyJitter ? jitterCams : cams;
+          for (int eye = 0; eye < 2; ++eye) {
+            out[eye] =
+                oracle.step(eye, src[eye].color, src[eye].depth, srcCams[eye], base[eye].depth, cams[eye]);
+          }
+        } else {
+          core::StereoFrame frame;
+          for (int eye = 0; eye < 2; ++eye) {
+            core::ViewFrame& view = frame.views[eye];
+            view.color = v.source == 1 ? renderer->baseColor(eye) : renderer->msaaColor(v.source, eye);
+            if (sc.depthGiven) view.depth = renderer->baseDepth(eye, kNearZ, kFarZ);
+            view.pose = cams[eye].pose;
+            view.fov = cams[eye].fov;  // the unjittered fov, as the layer submits after un-jittering
+            if (v.jitter) view.jitterPx = jitter;
+          }
+          frame.viewCount = 2;
+          frame.displayTimeNs = int64_t(std::llround((t + sc.leadSec + 1.0) * 1e9));  // positive, monotonic
+          frame.headSpeedDegPerSec = headSpeed;
+          frame.reset = f == 0;
+          core::StereoOutput output;
+          output.views = {renderer->output(0), renderer->output(1)};
+          const auto c0 = std::chrono::steady_clock::now();
+          const bool ok = v.filter->submit(frame, output, &error);
+          const auto c1 = std::chrono::steady_clock::now();
+          v.filter->waitIdle();
+          if (f == o.frames - 1) lastFrame[vi] = frame;
+          if (!ok) {
+            std::cerr << "\nsteadyxr-eval: filter '" << v.name << "' submit failed: " << error << "\n";
             return 1;
           }
-        }
-        double frameSq = 0, frameSsim = 0, frameMtcd = -1, frameMtcdDisp = -1, frameSqDisp = 0;
-        for (int eye = 0; eye < 2; ++eye) {
-          const double mse = meanSquaredError(out[eye], gt[eye]);
-          frameSq += mse / 2;
-          a.sqErr += mse * nPix * 3;
-          a.sqN += double(nPix) * 3;
-          const double s = ssim(out[eye], gt[eye]);
-          frameSsim += s / 2;
-          a.ssimSum += s;
-          a.ssimN += 1;
-          if (!a.prev[eye].empty()) {
-            const double m = 255.0 * temporalColorDifference(a.prev[eye], out[eye]);
-            frameMtcd = (frameMtcd < 0 ? 0 : frameMtcd) + m / 2;
-            a.mtcdSum += m;
-            a.mtcdN += 1;
+          // Timings skip the first frames: lavapipe compiles shaders on first use.
+          const bool warm = f >= std::min(2, o.frames - 1);
+          if (warm) {
+            a.cpuUs += std::chrono::duration<double, std::micro>(c1 - c0).count();
+            a.cpuN += 1;
+            a.renderMs += v.source == 1 ? baseMs : msaaMs[v.source == 2 ? 0 : 1];
+            a.renderN += 1;
           }
-          // Display stage (a): the runtime's rotational timewarp of this frame until the next one.
-          for (int k = 0; k < ratio; ++k) {
-            const Image shown = k == 0 ? out[eye] : rotationalTimewarp(out[eye], cams[eye], dispCams[k][eye]);
-            const double dmse = meanSquaredError(shown, dispGt[k][eye]);
-            frameSqDisp += dmse / (2 * ratio);
-            a.sqErrDisp += dmse;
-            a.sqDispN += 1;
-            a.errPxDisp += double(errorPixels(shown, dispGt[k][eye], o.errorThreshold)) / double(nPix);
-            a.errPxDispN += 1;
-            if (!a.prevDisplay[eye].empty()) {
-              const double m = 255.0 * temporalColorDifference(a.prevDisplay[eye], shown);
-              frameMtcdDisp = (frameMtcdDisp < 0 ? 0 : frameMtcdDisp) + m / (2 * ratio);
-              a.mtcdDispSum += m;
-              a.mtcdDispN += 1;
+          if (auto tm = v.filter->lastTimings(); tm && warm) {
+            a.gpuTemporal += tm->temporalMs;
+            a.gpuStereo += tm->stereoMs;
+            a.gpuOther += tm->otherMs;
+            a.gpuN += 1;
+          }
+          for (int eye = 0; eye < 2; ++eye) {
+            if (!renderer->readOutput(eye, &out[eye], &error)) {
+              std::cerr << "steadyxr-eval: readback: " << error << "\n";
+              return 1;
             }
-            a.prevDisplay[eye] = shown;
           }
         }
-        const StereoDifference sd =
-            stereoDifference(out[0], base[0].depth, cams[0], out[1], base[1].depth, cams[1]);
-        a.stereoSum += sd.meanSquared;
-        a.stereoN += 1;
+        const FrameScore s = scoreFrame(a, out, ft, o);
+        auto opt = [](double x) { return x < 0 ? std::string() : fmt(x, 6); };
         series << csvEscape(sc.label) << ',' << v.name << ',' << f << ',' << fmt(t, 6) << ','
-               << fmt(headSpeed, 5) << ',' << fmt(objSpeed, 5) << ','
-               << (frameMtcd < 0 ? "" : fmt(frameMtcd, 6)) << ',' << fmt(std::sqrt(frameSq), 6) << ','
-               << fmt(frameSsim, 6) << ',' << fmt(sd.meanSquared, 6) << ',' << fmt(gtSd.meanSquared, 6) << ','
-               << (frameMtcdDisp < 0 ? "" : fmt(frameMtcdDisp, 6)) << ',' << fmt(std::sqrt(frameSqDisp), 6)
-               << '\n';
-        a.prev = out;
-        if (f == o.frames - 1) lastOut[vi] = std::move(out);
+               << fmt(headSpeed, 5) << ',' << fmt(objSpeed, 5) << ',' << opt(s.mtcd) << ',' << opt(s.tempErr)
+               << ',' << fmt(s.rmse, 6) << ',' << fmt(s.ssim, 6) << ',' << fmt(s.stereoDiff, 6) << ','
+               << fmt(gtSd.meanSquared, 6) << ',' << fmt(s.stereoErr, 6) << ',' << opt(s.mtcdDisp) << ','
+               << fmt(s.rmseDisp, 6) << '\n';
+        frameOut[vi] = std::move(out);
       }
-      if (f == o.frames - 1) lastGt = gt;
+      // The default's worst frame against none's so far: keep every method's images of it (crops).
+      if (noneIndex >= 0 && defaultIndex >= 0 && !acc[defaultIndex].frameRmse.empty()) {
+        const double r = safeDiv(acc[defaultIndex].frameRmse.back(), acc[noneIndex].frameRmse.back());
+        if (r > worstRatio) {
+          worstRatio = r;
+          worstFrame = f;
+          worstOut = frameOut;
+          worstGt = ft.gt;
+        }
+      }
+      if (sc.label == animateLabel) {
+        std::vector<Tile> tiles = {{"gt", ft.gt[0]}};
+        for (const std::string& m : kAnimationMethods) {
+          const int i = indexOf(variants, m);
+          if (i >= 0 && !frameOut[i][0].empty()) tiles.push_back({m, frameOut[i][0]});
+        }
+        std::filesystem::create_directories(o.outDir + "/anim/" + sc.label);
+        char name[32];
+        std::snprintf(name, sizeof(name), "/frame_%03d.png", f);
+        writeAnimationFrame(o.outDir + "/anim/" + sc.label + name, tiles, cropWindow, &error);
+      }
+      for (size_t vi = 0; vi < variants.size(); ++vi) {
+        if (!frameOut[vi][0].empty()) lastOut[vi] = std::move(frameOut[vi]);
+      }
 
       // Seed 004 study (left eye, the app's own image): extrapolate k display frames ahead by
       // (a) rotational timewarp and (b) forward depth-image warping with per-pixel motion, and
@@ -777,7 +630,7 @@ int runSuite(const Options& o) {
     // alone, ~600 ms interleaved at 256x256), which would be billed to the method.
     for (size_t vi = 0; vi < variants.size(); ++vi) {
       Variant& v = variants[vi];
-      if ((v.sweep && !sc.sweeps) || !lastFrame[vi]) continue;
+      if (!active(v) || !lastFrame[vi] || !v.filter) continue;
       constexpr int kWarm = 2, kTimed = 6;
       std::vector<double> wall, gpu;
       for (int k = 0; k < kWarm + kTimed; ++k) {
@@ -795,40 +648,64 @@ int runSuite(const Options& o) {
         wall.push_back(std::chrono::duration<double, std::milli>(c1 - c0).count());
         if (auto tm = v.filter->lastTimings()) gpu.push_back(tm->totalMs);
       }
-      auto median = [](std::vector<double> x) {
-        if (x.empty()) return 0.0;
-        std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
-        return x[x.size() / 2];
-      };
-      acc[vi].timedWallMs = median(wall);
-      acc[vi].timedGpuMs = median(gpu);
+      acc[vi].timedWallMs = percentile(wall, 0.5);
+      acc[vi].timedGpuMs = percentile(gpu, 0.5);
     }
 
     // Rows of this scenario.
     const double gtStereo = safeDiv(gtStereoSum, gtStereoN);
+    // Motion changes: the preset's own change times (the first frame at or after each), else, for
+    // a trace, detected from the head speed.
+    std::vector<int> changes;
+    if (sc.trace) {
+      changes = detectMotionChanges(headSpeeds, kMotionChangeDegPerSec);
+    } else {
+      for (double tc : stream->motionChangeTimes()) {
+        const int k = int(std::ceil((tc - (start - sc.leadSec)) / dt - 1e-9));
+        if (k >= 0 && k < o.frames && (changes.empty() || changes.back() != k)) changes.push_back(k);
+      }
+    }
+    const double p95 = percentile(headSpeeds, 0.95);
     for (size_t vi = 0; vi < variants.size(); ++vi) {
       const Variant& v = variants[vi];
       const Accum& a = acc[vi];
-      if (v.sweep && !sc.sweeps) continue;
+      if (!active(v)) continue;
       ResultRow r;
       r.scenario = sc.label;
       r.scene = sc.scene;
       r.motion = sc.trace ? std::filesystem::path(sc.motion).stem().string() : sc.motion;
       r.picture = (sc.scene == "imageviewer" || sc.scene == "noisy") ? textureKey(sc.picture) : "";
+      r.motionClass = sc.motionClass;
+      r.pictureClass = sc.pictureClass;
       r.method = v.name;
-      r.filterMethod = core::methodName(v.params);
+      r.filterMethod = v.oracle ? "oracle" : core::methodName(v.params);
       r.sweep = v.sweep;
       r.stereo = v.params.stereo;
+      r.jitter = v.jitter;
+      r.depthGiven = sc.depthGiven;
       r.source = v.source;
       r.mtcd = safeDiv(a.mtcdSum, a.mtcdN);
+      r.temporalError = safeDiv(a.tempErrSum, a.tempErrN);
       r.mtcdDisplay = safeDiv(a.mtcdDispSum, a.mtcdDispN);
       r.rmse = std::sqrt(safeDiv(a.sqErr, a.sqN));
       r.ssim = safeDiv(a.ssimSum, a.ssimN);
       r.rmseDisplay = std::sqrt(safeDiv(a.sqErrDisp, a.sqDispN));
       r.errPxDisplayPct = 100.0 * safeDiv(a.errPxDisp, a.errPxDispN);
+      r.stereoError = safeDiv(a.stereoErrSum, a.stereoErrN);
       r.stereoDiff = safeDiv(a.stereoSum, a.stereoN);
       r.stereoDiffGt = gtStereo;
       r.stereoGap = std::fabs(r.stereoDiff - gtStereo);
+      if (noneIndex >= 0) {
+        const Ghosting g = ghostingPerFrame(a.frameRmse, acc[noneIndex].frameRmse, changes);
+        r.ghostWorstRatio = g.worstRatio;
+        r.ghostWorstFrame = g.worstFrame;
+        r.recoveryFrames = g.recoveryFrames;
+        r.recovered = g.recovered;
+      }
+      r.motionChanges = int(changes.size());
+      r.headSpeedP95 = p95;
+      r.lowSpeed = p95 < kLowSpeedDegPerSec;
+      r.staticScene = !scene.hasMovingObject;
       // lavapipe's timestamps miss dispatches that no barrier waits for (measured: hybrid 0.1 ms
       // by timestamps, 3.5 ms from submit to idle, at 256x256), and its "GPU" is this CPU anyway:
       // there the cost is the wall time from submit to idle. Real GPUs: timestamps.
@@ -843,88 +720,57 @@ int runSuite(const Options& o) {
     // Cost = the filter's GPU time + the render time above the 1-sample render (MSAA's price).
     double baseRender = 0;
     for (const ResultRow& r : rows) {
-      if (r.scenario == sc.label && r.source == 1) baseRender = r.renderMs;
+      if (r.scenario == sc.label && r.source == 1 && r.renderMs > 0) baseRender = r.renderMs;
     }
     for (ResultRow& r : rows) {
       if (r.scenario == sc.label) r.costMs = r.gpuMs + std::max(0.0, r.renderMs - baseRender);
     }
 
-    // Magnified crops (seed 003 Fig. 4): ground truth and methods, with |difference| x4 below.
-    {
-      const std::vector<std::string> shown = {"none", "fxaa", "msaa4", "taa", "hmtaa", "vtaa", "default"};
-      std::vector<std::pair<std::string, const Image*>> tiles = {{"gt", &lastGt[0]}};
-      for (const std::string& m : shown) {
-        for (size_t vi = 0; vi < variants.size(); ++vi) {
-          if (variants[vi].name == m && !lastOut[vi][0].empty()) tiles.emplace_back(m, &lastOut[vi][0]);
-        }
+    // Labelled, magnified crops (seed 003 Fig. 4) at the last frame and at the default's worst.
+    auto tilesOf = [&](const std::vector<std::array<Image, 2>>& images) {
+      std::vector<Tile> tiles;
+      for (const std::string& m : kCropMethods) {
+        const int i = indexOf(variants, m);
+        if (i >= 0 && !images[i][0].empty()) tiles.push_back({m, images[i][0]});
       }
-      const int cw = std::max(8, o.width / 5), ch = std::max(8, o.height / 5), scale = 4;
-      const int x0 = o.width / 2 - cw / 2, y0 = o.height / 2 - ch / 2;
-      Image canvas(int(tiles.size()) * (cw * scale + 4), 2 * (ch * scale + 4), 1.0f);
-      for (size_t i = 0; i < tiles.size(); ++i) {
-        blit(&canvas, cropMagnify(*tiles[i].second, x0, y0, cw, ch, scale), int(i) * (cw * scale + 4), 0);
-        blit(&canvas, cropMagnify(differenceImage(*tiles[i].second, lastGt[0], 4.0f), x0, y0, cw, ch, scale),
-             int(i) * (cw * scale + 4), ch * scale + 4);
-      }
-      savePng(o.outDir + "/crops/" + sc.label + ".png", canvas, &error);
-      std::ofstream legend(o.outDir + "/crops/" + sc.label + ".txt");
-      legend << "columns (left to right):";
-      for (const auto& t : tiles) legend << ' ' << t.first;
-      legend << "\nrow 1: " << cw << "x" << ch << " px crop of the left eye at the last frame, magnified x"
-             << scale << "; row 2: |image - ground truth| x4\n";
-      savePng(o.outDir + "/crops/" + sc.label + "_full_gt.png", lastGt[0], &error);
-      for (size_t vi = 0; vi < variants.size(); ++vi) {
-        if ((variants[vi].name == "none" || variants[vi].name == "default") && !lastOut[vi][0].empty()) {
-          savePng(o.outDir + "/crops/" + sc.label + "_full_" + variants[vi].name + ".png", lastOut[vi][0],
-                  &error);
-        }
-      }
+      return tiles;
+    };
+    writeCropStrip(o.outDir + "/crops/" + sc.label + ".png", tilesOf(lastOut), ft.gt[0], cropWindow,
+                   sc.label + " last frame " + std::to_string(o.frames - 1) + ", row 2: difference x4",
+                   &error);
+    if (worstFrame >= 0) {
+      writeCropStrip(o.outDir + "/crops/" + sc.label + "_worst.png", tilesOf(worstOut), worstGt[0],
+                     cropWindow,
+                     sc.label + " frame " + std::to_string(worstFrame) +
+                         " (default's worst: " + fmt(worstRatio, 3) + "x none), row 2: difference x4",
+                     &error);
     }
   }
   progress.finish();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
 
   writeResultsCsv(o.outDir + "/results.csv", rows);
-  const auto targets = checkTargets(rows, scenarios, defaultTemporal);
-  writeJson(o.outDir + "/results.json", o, rows, targets, device, seconds);
+  const auto targets = checkTargets(rows, defaultTemporal);
+  writeResultsJson(o.outDir + "/results.json", o, rows, targets, device, seconds);
+  if (o.corpus) writeCorpusCsv(o.outDir + "/corpus.csv", rows);
 
-  // The table.
-  std::cout << "steadyxr-eval: " << scenarios.size() << " scenarios x " << variants.size() << " methods, "
+  std::cout << "steadyxr-eval: " << scenarios.size() << " cases x " << variants.size() << " methods, "
             << o.width << "x" << o.height << " per eye, " << o.frames << " frames at " << o.appHz
-            << " Hz (display " << o.displayHz << " Hz), ground truth " << o.gtGrid * o.gtGrid
-            << " spp, device " << device << ", " << fmt(seconds, 4) << " s\n";
-  std::cout << "MTCD in 8-bit code values (seed 003 Eq. 6); RMSE/SSIM vs ground truth on sRGB-encoded [0,1]; "
-               "stereo gap = |stereo diff - ground truth's| x1e3; GPU = filter passes (both eyes)\n";
-  std::string current;
-  for (const ResultRow& r : rows) {
-    if (r.scenario != current) {
-      current = r.scenario;
-      std::cout << "\n== " << current << "\n"
-                << std::left << std::setw(22) << "method" << std::right << std::setw(8) << "MTCD"
-                << std::setw(9) << "MTCDdisp" << std::setw(8) << "RMSE" << std::setw(7) << "SSIM"
-                << std::setw(9) << "RMSEdisp" << std::setw(8) << "err%" << std::setw(8) << "stGap"
-                << std::setw(8) << "GPUms" << std::setw(8) << "costms" << std::setw(8) << "CPUus"
-                << "\n";
-    }
-    std::cout << std::left << std::setw(22) << r.method << std::right << std::fixed << std::setprecision(3)
-              << std::setw(8) << r.mtcd << std::setw(9) << r.mtcdDisplay << std::setprecision(4)
-              << std::setw(8) << r.rmse << std::setprecision(3) << std::setw(7) << r.ssim
-              << std::setprecision(4) << std::setw(9) << r.rmseDisplay << std::setprecision(2) << std::setw(8)
-              << r.errPxDisplayPct << std::setprecision(3) << std::setw(8) << 1e3 * r.stereoGap
-              << std::setw(8) << r.gpuMs << std::setw(8) << r.costMs << std::setprecision(0) << std::setw(8)
-              << r.cpuUs << "\n";
-    std::cout.unsetf(std::ios::fixed);
-  }
-  std::cout << "\nTargets (default = " << core::methodName(*core::applyMethodName("default")) << "):\n";
-  for (const TargetCheck& t : targets) {
-    std::cout << "  ["
-              << (!t.evaluated ? "N/A"
-                  : t.met      ? "MET"
-                               : "MISSED")
-              << "] " << t.name << ": " << t.detail << "\n";
-  }
+            << " Hz (display " << o.displayHz << " Hz), ground truth " << o.gtGrid * o.gtGrid << " spp, "
+            << (o.unorm ? "UNORM" : "sRGB") << " eye images, "
+            << (o.mipmaps ? "trilinear mipmaps" : "no mipmaps") << ", device " << device << ", "
+            << fmt(seconds, 4) << " s\n";
+  std::cout
+      << "MTCD (seed 003 Eq. 6), TempErr (temporal error vs ground truth) and StErr (per-pixel stereo error) "
+         "in 8-bit code values; RMSE/SSIM vs ground truth on display-encoded [0,1]; worst/n = worst frame's "
+         "RMSE / none's there; recov = most frames after a motion change until RMSE <= none's (+: not by the "
+         "end); GPU = filter passes (both eyes)\n";
+  printResults(rows, targets, !o.corpus);
+  if (o.corpus) printCorpusTable(rows, std::cout);
   std::cout << "Outputs: " << o.outDir
-            << "/results.csv, results.json, timeseries.csv, warp_errors.csv, crops/*.png\n";
+            << "/results.csv, results.json, timeseries.csv, warp_errors.csv, crops/*.png"
+            << (o.corpus ? ", corpus.csv" : "")
+            << (animateLabel.empty() ? "" : ", anim/" + animateLabel + "/") << "\n";
   if (o.validation && ctx->validationMessageCount() > 0) {
     std::cerr << "steadyxr-eval: " << ctx->validationMessageCount()
               << " validation messages, first: " << ctx->validationMessages().front() << "\n";

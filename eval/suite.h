@@ -28,7 +28,11 @@ struct Options {
   int gtGrid = 4;               // ground truth: gtGrid^2 jittered samples per pixel
   int warpSteps = 6;            // seed 004 study: extrapolate up to this many display frames
   float errorThreshold = 0.1f;  // seed 004 error-pixel threshold (any channel, [0, 1] scale)
-  float noise = 0.0f;  // > 0: per-frame noise of this amplitude on every scene (noisy variant of any scene)
+  float noise = 0.0f;   // > 0: per-frame noise of this amplitude on every scene (noisy variant of any scene)
+  bool unorm = false;   // eye images and textures UNORM (encoded values) instead of sRGB (linear light)
+  bool mipmaps = true;  // trilinear mipmapped textures; false: the base level only (worst case)
+  bool corpus = false;  // every motion preset x the corpus pictures and scenes (corpus.h)
+  std::string animate;  // case label to write an animated comparison of ("" = none; corpus: none)
   bool sweeps = true;
   bool progress = true;
   bool validation = false;

@@ -16,7 +16,8 @@
 namespace {
 
 constexpr const char* kUsage = R"(usage: steadyxr-imu-emu [options]
-  --motion NAME        fixation | pursuit | fastturn | sequence | trace:PATH   (default fixation)
+  --motion NAME        a preset (--list-motions) or trace:PATH                 (default fixation)
+  --list-motions       print the motion presets with their parameters and exit
   --seed N             deterministic seed (default 1)
   --duration SEC       default: the motion's natural length
   --rate HZ            sample rate (default 1000)
@@ -38,7 +39,7 @@ struct Options {
   double gyroNoise = 0.0, accelNoise = 0.0;
   uint32_t tsStart = 0;
   int realtime = -1;  // -1: by transport
-  bool printDescriptor = false;
+  bool printDescriptor = false, listMotions = false;
 };
 
 bool parse(int argc, char** argv, Options* o) {
@@ -52,6 +53,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->realtime = 0;
     else if (a == "--print-descriptor")
       o->printDescriptor = true;
+    else if (a == "--list-motions")
+      o->listMotions = true;
     else if (a == "-h" || a == "--help")
       return false;
     else if (!(v = value()))
@@ -100,6 +103,12 @@ int main(int argc, char** argv) {
     std::printf("\n");
     return 0;
   }
+  if (o.listMotions) {
+    for (const MotionPreset& p : motionPresets())
+      std::printf("%-22s %-12s %s%s\n", p.name.c_str(), p.motionClass.c_str(), p.summary.c_str(),
+                  p.inCorpus ? "" : "  (not in the corpus)");
+    return 0;
+  }
   if (o.out.empty() || o.rate <= 0.0) {
     std::fputs(kUsage, stderr);
     return 2;
@@ -112,6 +121,11 @@ int main(int argc, char** argv) {
     return 1;
   }
   const double duration = o.duration >= 0.0 ? o.duration : stream->durationSec();
+  if (duration > stream->validUntilSec() + 1e-9) {  // a trace would silently hold its last pose
+    std::fprintf(stderr, "steadyxr-imu-emu: %s ends at %.3f s, shorter than the requested %.3f s\n",
+                 stream->describe().c_str(), stream->validUntilSec(), duration);
+    return 1;
+  }
   if (!o.truth.empty() &&
       !writeTrace(*stream, o.truthRate > 0 ? o.truthRate : o.rate, duration, o.truth, &error)) {
     std::fprintf(stderr, "steadyxr-imu-emu: %s\n", error.c_str());

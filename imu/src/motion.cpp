@@ -6,199 +6,67 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <numbers>
 #include <sstream>
 
-#include <glm/gtc/quaternion.hpp>
-
-#include "steadyxr/imu/motion.h"
-#include "steadyxr/imu/motion_extra.h"
+#include "motion_internal.h"
 
 namespace steadyxr::imu {
+
+double MotionStream::headSpeedDegPerSec(double tSec) const {
+  return glm::length(glm::dvec3(at(tSec).angularVelocityRadPerSec)) / detail::kDegToRad;
+}
+
 namespace {
 
-using dquat = glm::dquat;
-using dvec3 = glm::dvec3;
-
-constexpr double kDegToRad = std::numbers::pi / 180.0;
-
-struct Pose {
-  dquat q{1.0, 0.0, 0.0, 0.0};
-  dvec3 p{0.0};
-};
-
-// Counter-based random numbers: platform independent (std distributions are not).
-class Rng {
- public:
-  explicit Rng(uint64_t seed) : state_(seed) {}
-  uint64_t next() {
-    uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-  double exponential(double rate) { return -std::log(1.0 - uniform()) / rate; }
-  dvec3 unitVector() {
-    const double z = uniform(-1.0, 1.0);
-    const double phi = uniform(0.0, 2.0 * std::numbers::pi);
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    return {r * std::cos(phi), r * std::sin(phi), z};
-  }
-
- private:
-  uint64_t state_;
-};
-
-dquat fromRotationVector(const dvec3& v) {
-  const double angle = glm::length(v);
-  if (angle < 1e-12) return glm::normalize(dquat(1.0, 0.5 * v.x, 0.5 * v.y, 0.5 * v.z));
-  return glm::angleAxis(angle, v / angle);
-}
-
-dvec3 toRotationVector(dquat q) {
-  if (q.w < 0.0) q = -q;
-  const dvec3 xyz(q.x, q.y, q.z);
-  const double s = glm::length(xyz);
-  if (s < 1e-15) return 2.0 * xyz;
-  return xyz * (2.0 * std::atan2(s, q.w) / s);
-}
-
-MotionState toState(const Pose& pose, const dvec3& omega, const dvec3& accel) {
-  MotionState s;
-  s.orientation = glm::quat(glm::normalize(pose.q));
-  s.angularVelocityRadPerSec = glm::vec3(omega);
-  s.position = glm::vec3(pose.p);
-  s.linearAccelerationMps2 = glm::vec3(accel);
-  return s;
-}
-
-// Base for streams defined by a pose curve; the curve must accept any t (also slightly < 0).
-class PoseStream : public MotionStream {
- public:
-  virtual Pose poseAt(double t) const = 0;
-  // Step of the central differences; traces use their row spacing.
-  virtual double derivativeStep() const { return 1e-4; }
-
-  MotionState at(double t) const override {
-    t = std::max(t, 0.0);
-    const double h = derivativeStep();
-    const Pose p0 = poseAt(t - h);
-    const Pose p1 = poseAt(t);
-    const Pose p2 = poseAt(t + h);
-    const dvec3 omega = toRotationVector(glm::conjugate(p0.q) * p2.q) / (2.0 * h);
-    const double ha = std::max(h, 1e-3);  // second differences need a coarser step
-    const dvec3 accel = (poseAt(t + ha).p - 2.0 * p1.p + poseAt(t - ha).p) / (ha * ha);
-    return toState(p1, omega, accel);
-  }
-};
-
-dvec3 neckVector() {
-  return {0.0, kNeckToEyesY, kNeckToEyesZ};
-}
-
-// Eyes move on a sphere about the neck pivot when the head rotates.
-dvec3 neckTranslation(const dquat& q) {
-  return q * neckVector() - neckVector();
-}
-
-struct Sinusoid {
-  double amplitude, freqHz, phase;
-  double at(double t) const { return amplitude * std::sin(2.0 * std::numbers::pi * freqHz * t + phase); }
-};
-
-// Band-limited noise as a sum of sinusoids with the given per-axis RMS.
-std::vector<Sinusoid> bandNoise(Rng& rng, int count, double loHz, double hiHz, double rms) {
-  if (loHz > hiHz) std::swap(loHz, hiHz);
-  loHz = std::max(loHz, 1e-3);
-  hiHz = std::max(hiHz, loHz);
-  std::vector<Sinusoid> out;
-  double sumW2 = 0.0;
-  for (int i = 0; i < count; ++i) {
-    const double w = rng.uniform(0.5, 1.0);
-    out.push_back({w, rng.uniform(loHz, hiHz), rng.uniform(0.0, 2.0 * std::numbers::pi)});
-    sumW2 += w * w;
-  }
-  const double scale = rms * std::sqrt(2.0 / sumW2);  // RMS of a sum of sines: sqrt(sum a^2 / 2)
-  for (auto& s : out) s.amplitude *= scale;
-  return out;
-}
-
-double sumAt(const std::vector<Sinusoid>& v, double t) {
-  double s = 0.0;
-  for (const auto& x : v) s += x.at(t);
-  return s;
-}
-
-double smootherstep(double x) {
-  x = std::clamp(x, 0.0, 1.0);
-  return x * x * x * (x * (6.0 * x - 15.0) + 10.0);
-}
+using namespace detail;
 
 class Fixation final : public PoseStream {
  public:
   Fixation(const FixationParams& p, uint64_t seed) : p_(p), seed_(seed) {
-    Rng rng(seed ^ 0xF1A710ull);
-    for (int axis = 0; axis < 3; ++axis) {
-      tremor_[axis] = bandNoise(rng, 8, p.tremorLowHz, p.tremorHighHz, p.tremorAmplitudeDeg);
-      // Drift: a few very slow components whose RMS *rate* is driftDegPerSec.
-      const double rate = std::abs(p.driftDegPerSec) * std::sqrt(2.0 / 3.0);
-      for (int i = 0; i < 3; ++i) {
-        const double f = rng.uniform(0.03, 0.2);
-        drift_[axis].push_back({rate / (2.0 * std::numbers::pi * f), f, rng.uniform(0.0, 6.283185307)});
-      }
-      translation_[axis] = bandNoise(rng, 6, 0.5, 4.0, p.translationTremorMm * 1e-3);
-    }
+    JitterParams j;
+    j.periodSec = p.durationSec + 2.0;
+    j.tremorAmplitudeDeg = p.tremorAmplitudeDeg;
+    j.tremorLowHz = std::min(p.tremorLowHz, p.tremorHighHz);
+    j.tremorHighHz = std::max(p.tremorLowHz, p.tremorHighHz);
+    j.driftDegPerSec = p.driftDegPerSec;
+    j.translationTremorMm = p.translationTremorMm;
+    jitter_ = Jitter(j, seed);
+    Rng rng(seed ^ 0x5ACCADEull);
     if (p.jumpsPerSec > 0.0 && p.jumpAmplitudeDeg != 0.0) {
       for (double t = rng.exponential(p.jumpsPerSec); t < p.durationSec;
            t += rng.exponential(p.jumpsPerSec)) {
-        jumps_.push_back({t, rng.unitVector() * (p.jumpAmplitudeDeg * rng.uniform(0.5, 1.5))});
+        jumps_.push_back({t, std::max(p.jumpRampSec, 1e-3),
+                          rng.unitVector() * (p.jumpAmplitudeDeg * rng.uniform(0.5, 1.5))});
         if (jumps_.size() > 100000) break;
       }
     }
-    rotation0_ = rawRotationDeg(0.0);
-    translation0_ = rawTranslation(0.0);
   }
 
   Pose poseAt(double t) const override {
+    dvec3 deg = jitter_.rotationDeg(t);
+    for (const auto& j : jumps_) deg += j.at(t);
     Pose pose;
-    pose.q = fromRotationVector((rawRotationDeg(t) - rotation0_) * kDegToRad);
-    pose.p = neckTranslation(pose.q) + rawTranslation(t) - translation0_;
+    pose.q = fromRotationVector(deg * kDegToRad);
+    pose.p = neckTranslation(pose.q) + jitter_.translation(t);
     return pose;
   }
   double durationSec() const override { return p_.durationSec; }
+  std::vector<double> motionChangeTimes() const override {
+    std::vector<double> out;
+    for (const auto& j : jumps_) out.push_back(j.t);
+    return out;
+  }
   std::string describe() const override {
-    char buf[256];
-    std::snprintf(buf, sizeof buf,
-                  "fixation(%.1fs tremor %.3fdeg %.0f-%.0fHz drift %.2fdeg/s jumps %.2f/s seed %llu)",
-                  p_.durationSec, p_.tremorAmplitudeDeg, p_.tremorLowHz, p_.tremorHighHz, p_.driftDegPerSec,
-                  p_.jumpsPerSec, static_cast<unsigned long long>(seed_));
-    return buf;
+    return formatText("fixation(%.1fs tremor %.3fdeg %.0f-%.0fHz drift %.2fdeg/s jumps %.2f/s seed %llu)",
+                      p_.durationSec, p_.tremorAmplitudeDeg, p_.tremorLowHz, p_.tremorHighHz,
+                      p_.driftDegPerSec, p_.jumpsPerSec, static_cast<unsigned long long>(seed_));
   }
 
  private:
-  struct Jump {
-    double t;
-    dvec3 deg;
-  };
-  static constexpr double kJumpSec = 0.06;  // a small corrective head movement takes tens of ms
-
-  dvec3 rawRotationDeg(double t) const {
-    dvec3 r(0.0);
-    for (int a = 0; a < 3; ++a) r[a] = sumAt(tremor_[a], t) + sumAt(drift_[a], t);
-    for (const auto& j : jumps_) r += j.deg * smootherstep((t - j.t) / kJumpSec);
-    return r;
-  }
-  dvec3 rawTranslation(double t) const {
-    return {sumAt(translation_[0], t), sumAt(translation_[1], t), sumAt(translation_[2], t)};
-  }
-
   FixationParams p_;
   uint64_t seed_;
-  std::vector<Sinusoid> tremor_[3], drift_[3], translation_[3];
+  Jitter jitter_;
   std::vector<Jump> jumps_;
-  dvec3 rotation0_{0.0}, translation0_{0.0};
 };
 
 class Turn final : public PoseStream {
@@ -211,33 +79,17 @@ class Turn final : public PoseStream {
     axis_ = glm::length(axis) > 1e-9 ? glm::normalize(axis) : dvec3(0.0, 1.0, 0.0);
   }
 
-  // Raised-cosine speed ramps: speed and acceleration are continuous.
-  double angle(double t) const {
-    const double r = ramp_, d = duration_, v = speed_;
-    auto up = [&](double tau) {
-      if (r <= 0.0) return v * tau;
-      return v * (tau / 2.0 - r / (2.0 * std::numbers::pi) * std::sin(std::numbers::pi * tau / r));
-    };
-    const double total = v * (d - r);
-    if (t <= 0.0) return 0.0;
-    if (t >= d) return total;
-    if (t < r) return up(t);
-    if (t <= d - r) return v * r / 2.0 + v * (t - r);
-    return total - up(d - t);
-  }
-
   Pose poseAt(double t) const override {
     Pose pose;
-    pose.q = glm::angleAxis(angle(t), axis_);
+    pose.q = glm::angleAxis(rampedTurnAngle(t, duration_, ramp_, ramp_, speed_), axis_);
     pose.p = neckTranslation(pose.q);
     return pose;
   }
   double durationSec() const override { return duration_; }
+  std::vector<double> motionChangeTimes() const override { return {0.0, duration_}; }
   std::string describe() const override {
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "%s(%.1fdeg/s for %.2fs, ramp %.2fs, axis %.2f %.2f %.2f)", name_.c_str(),
-                  p_.peakSpeedDegPerSec, duration_, ramp_, axis_.x, axis_.y, axis_.z);
-    return buf;
+    return formatText("%s(%.1fdeg/s for %.2fs, ramp %.2fs, axis %.2f %.2f %.2f)", name_.c_str(),
+                      p_.peakSpeedDegPerSec, duration_, ramp_, axis_.x, axis_.y, axis_.z);
   }
 
  private:
@@ -286,6 +138,20 @@ class Sequence final : public MotionStream {
     return out;
   }
   double durationSec() const override { return total_; }
+  double validUntilSec() const override {
+    if (segments_.empty()) return 0.0;
+    return segments_.back().start + parts_.back()->validUntilSec();
+  }
+  std::vector<double> motionChangeTimes() const override {
+    std::vector<double> out;
+    for (size_t i = 0; i < parts_.size(); ++i)
+      for (double t : parts_[i]->motionChangeTimes())
+        if (t <= segments_[i].duration + 1e-9) out.push_back(segments_[i].start + t);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end(), [](double a, double b) { return b - a < 1e-6; }),
+              out.end());
+    return out;
+  }
   std::string describe() const override {
     std::string s = "sequence[";
     for (size_t i = 0; i < parts_.size(); ++i) s += (i ? ", " : "") + parts_[i]->describe();
@@ -336,6 +202,7 @@ class Trace final : public PoseStream {
     return s;
   }
   double durationSec() const override { return rows_.back().t; }
+  double validUntilSec() const override { return rows_.back().t; }
   std::string describe() const override {
     return "trace(" + path_ + ", " + std::to_string(rows_.size()) + " rows)";
   }
@@ -479,28 +346,6 @@ std::unique_ptr<MotionStream> loadTrace(const std::string& path, std::string* er
   for (size_t i = 1; i < rows.size(); ++i)  // keep quaternion signs continuous for slerp
     if (glm::dot(rows[i - 1].q, rows[i].q) < 0.0) rows[i].q = -rows[i].q;
   return std::make_unique<Trace>(std::move(rows), hasW, path);
-}
-
-std::unique_ptr<MotionStream> makePreset(const std::string& name, uint64_t seed, std::string* error) {
-  if (name == "fixation") return makeFixation({}, seed);
-  if (name == "pursuit") return makePursuit({}, seed);
-  if (name == "fastturn") return makeFastTurn(fastTurnDefaults(), seed);
-  if (name == "sequence") {
-    FixationParams hold;
-    hold.durationSec = 2.0;
-    TurnParams pursuit;
-    pursuit.durationSec = 2.0;
-    std::vector<std::unique_ptr<MotionStream>> parts;
-    parts.push_back(makeFixation(hold, seed));
-    parts.push_back(makePursuit(pursuit, seed + 1));
-    parts.push_back(makeFixation(hold, seed + 2));
-    parts.push_back(makeFastTurn(fastTurnDefaults(), seed + 3));
-    parts.push_back(makeFixation(hold, seed + 4));
-    return makeSequence(std::move(parts));
-  }
-  if (name.rfind("trace:", 0) == 0) return loadTrace(name.substr(6), error);
-  setError(error, "unknown motion preset '" + name + "' (fixation, pursuit, fastturn, sequence, trace:PATH)");
-  return nullptr;
 }
 
 bool writeTrace(const MotionStream& stream, double rateHz, double durationSec, const std::string& path,

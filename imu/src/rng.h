@@ -1,9 +1,12 @@
 // Deterministic, platform-independent random numbers (std distributions differ between libraries).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+
+#include <glm/vec3.hpp>
 
 namespace steadyxr::imu::detail {
 
@@ -21,6 +24,13 @@ class Rng {
   double gaussian() {  // Box-Muller, one of the pair
     const double u = 1.0 - uniform();
     return std::sqrt(-2.0 * std::log(u)) * std::cos(2.0 * std::numbers::pi * uniform());
+  }
+  double exponential(double rate) { return -std::log(1.0 - uniform()) / rate; }
+  glm::dvec3 unitVector() {
+    const double z = uniform(-1.0, 1.0);
+    const double phi = uniform(0.0, 2.0 * std::numbers::pi);
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    return {r * std::cos(phi), r * std::sin(phi), z};
   }
 
  private:

@@ -13,7 +13,7 @@ exe, out, plot = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(out, ignore_errors=True)
 cmd = [exe, "--out", out, "--resolution", "48x48", "--frames", "4", "--gt-grid", "2", "--warp-steps", "2",
        "--scenes", "imageviewer,moving", "--motions", "fixation", "--images", "astronaut",
-       "--methods", "none,msaa4,taa,hmtaa+stereo,default,hmtaa@hmax=10", "--no-progress"]
+       "--methods", "none,msaa4,taa,taa+jitter,hmtaa+stereo,default,oracle,hmtaa@hmax=10", "--no-progress"]
 # Under the sanitizer build, leak reports would come from the Vulkan driver's (Mesa/LLVM)
 # process-lifetime allocations, not from steadyxr: keep ASan's error checks, drop leak checks.
 env = dict(os.environ)
@@ -29,8 +29,10 @@ for name in ("results.csv", "results.json", "timeseries.csv", "warp_errors.csv")
 
 with open(os.path.join(out, "results.csv"), newline="") as f:
     rows = list(csv.DictReader(f))
-assert len(rows) == 2 * 6, f"expected 12 result rows, got {len(rows)}"
-text_cols = {"scenario", "scene", "motion", "picture", "method", "filter_method"}
+# The oracle runs on the static scene only (the moving object has no exact reprojection).
+assert len(rows) == 2 * 7 + 1, f"expected 15 result rows, got {len(rows)}"
+assert [r["scenario"] for r in rows if r["method"] == "oracle"] == ["imageviewer-fixation-astronaut"]
+text_cols = {"scenario", "scene", "motion", "picture", "method", "filter_method", "motion_class", "picture_class"}
 for r in rows:
     for k, v in r.items():
         if k not in text_cols:
@@ -38,7 +40,16 @@ for r in rows:
     assert 0.0 <= float(r["rmse"]) < 1.0 and 0.0 < float(r["ssim"]) <= 1.0 + 1e-9
 with open(os.path.join(out, "results.json")) as f:
     data = json.load(f)
-assert len(data["results"]) == len(rows) and len(data["targets"]) == 4
+assert len(data["results"]) == len(rows) and len(data["targets"]) == 8
+assert data["config"]["srgb"] and data["config"]["mipmaps"]
+assert "[MET]" in res.stdout or "[MISSED]" in res.stdout, "target lines missing"
+# The jittered variant differs from the unjittered one (the jitter reached the render and the core).
+by = {(r["scenario"], r["method"]): r for r in rows}
+sc = "imageviewer-fixation-astronaut"
+assert by[(sc, "taa")]["rmse"] != by[(sc, "taa+jitter")]["rmse"]
+for r in rows:
+    assert float(r["temporal_error"]) >= 0 and float(r["stereo_error"]) >= 0
+    assert float(r["ghost_worst_ratio"]) > 0
 for name in ("timeseries.csv", "warp_errors.csv"):
     with open(os.path.join(out, name), newline="") as f:
         for r in csv.DictReader(f):
@@ -46,7 +57,9 @@ for name in ("timeseries.csv", "warp_errors.csv"):
                 if k not in ("scenario", "method", "mode") and v != "":
                     assert math.isfinite(float(v)), f"{name}: {k}={v}"
 crops = os.listdir(os.path.join(out, "crops"))
-assert any(c.endswith(".png") for c in crops), "no crops"
+assert sc + ".png" in crops and sc + "_worst.png" in crops, crops
+anim = os.listdir(os.path.join(out, "anim", sc))
+assert len(anim) == 4 and all(a.endswith(".png") for a in anim), anim
 
 # Charts (skipped, not failed, where matplotlib is missing entirely).
 res = subprocess.run([sys.executable, plot, out], capture_output=True, text=True, timeout=120)
@@ -56,4 +69,5 @@ else:
     assert res.returncode == 0, res.stderr
     charts = os.listdir(os.path.join(out, "charts"))
     assert "warp_errors.png" in charts and any(c.startswith("pareto_") for c in charts), charts
+    assert os.path.getsize(os.path.join(out, "anim", sc + ".gif")) > 0, "no animation"
 print("small suite OK")

@@ -159,9 +159,12 @@ TEST(Fusion, DroppedReportsAndClockJumpsKeepTheOutputContinuous) {
     ASSERT_LE(dt, 0.05);  // the time line never jumps
     maxStep = std::max(maxStep, angleDeg(pipe.out[i].orientation, pipe.out[i - 1].orientation) / (dt * 1000));
   }
-  const Errors e = compare(*m, pipe.out, 0, 0.0, m->durationSec());
-  std::printf("sequence with 10%% drops and clock jumps: max error %.3f deg, max step %.3f deg/ms\n",
-              e.maxDeg, maxStep);
+  // From 2 s: the first is the tilt estimate settling from one accelerometer sample (as in
+  // RecoversFixationTremorOver10s), which drops and clock jumps have nothing to do with.
+  const Errors e = compare(*m, pipe.out, 0, 2.0, m->durationSec());
+  std::printf(
+      "sequence with 10%% drops and clock jumps: max error over 2 s-end %.3f deg, max step %.3f deg/ms\n",
+      e.maxDeg, maxStep);
   EXPECT_LT(maxStep, 0.25);  // <= 200 deg/s head speed: no jumps
   EXPECT_LT(e.maxDeg, 0.5);
   EXPECT_GT(pipe.parser.stats().timestampJumps + pipe.parser.stats().timestampBackwards, 10u);

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 #include "imu_test_util.h"
 #include "steadyxr/imu/motion.h"
@@ -141,6 +142,48 @@ TEST(Motion, TraceRoundTripAndAngularVelocityOnlyTraces) {
   EXPECT_NEAR(w->at(0.5).angularVelocityRadPerSec.y, 0.5f, 1e-6);
   std::filesystem::remove(path);
   std::filesystem::remove(wpath);
+}
+
+TEST(Motion, TracesGiveTheirAngularVelocityColumnsAndTheirEnd) {
+  // Orientation and wx,wy,wz that disagree on purpose: a recorded gyro is not the difference of
+  // two recorded poses (those quantise and lag); the columns are the head speed when present.
+  const std::string path = tempPath("qw_trace.csv");
+  {
+    std::ofstream f(path);
+    f << "t_s,qw,qx,qy,qz,wx,wy,wz\n";
+    for (int i = 0; i <= 100; ++i) {  // 1 s at 100 Hz: 10 deg/s yaw in the poses, 0.3 rad/s pitch in w
+      const glm::dquat q = glm::angleAxis(10.0 / kRadToDeg * i * 0.01, glm::dvec3(0, 1, 0));
+      f << i * 0.01 << "," << q.w << "," << q.x << "," << q.y << "," << q.z << ",0.3,0,0\n";
+    }
+  }
+  std::string error;
+  const auto s = loadTrace(path, &error);
+  ASSERT_TRUE(s) << error;
+  EXPECT_NEAR(s->at(0.505).angularVelocityRadPerSec.x, 0.3f, 1e-6);
+  EXPECT_NEAR(s->at(0.505).angularVelocityRadPerSec.y, 0.0f, 1e-6);
+  EXPECT_NEAR(s->headSpeedDegPerSec(0.505), 0.3 * kRadToDeg, 1e-4);
+  EXPECT_NEAR(s->validUntilSec(), 1.0, 1e-9);  // callers check a run against it
+  // Without the columns: the poses' derivative, 10 deg/s.
+  const std::string qpath = tempPath("q_trace.csv");
+  {
+    std::ofstream f(qpath);
+    f << "t_s,qw,qx,qy,qz\n";
+    for (int i = 0; i <= 100; ++i) {
+      const glm::dquat q = glm::angleAxis(10.0 / kRadToDeg * i * 0.01, glm::dvec3(0, 1, 0));
+      f << i * 0.01 << "," << q.w << "," << q.x << "," << q.y << "," << q.z << "\n";
+    }
+  }
+  const auto q = loadTrace(qpath, &error);
+  ASSERT_TRUE(q) << error;
+  EXPECT_NEAR(q->headSpeedDegPerSec(0.505), 10.0, 0.01);
+  // A sequence ends where its last part does; generators never end.
+  std::vector<std::unique_ptr<MotionStream>> parts;
+  parts.push_back(makeFixation({}, 1));
+  parts.push_back(loadTrace(path, &error));
+  EXPECT_NEAR(makeSequence(std::move(parts))->validUntilSec(), 11.0, 1e-9);
+  EXPECT_TRUE(std::isinf(makeFixation({}, 1)->validUntilSec()));
+  std::filesystem::remove(path);
+  std::filesystem::remove(qpath);
 }
 
 TEST(Motion, MalformedTracesAndUnknownPresetsAreErrors) {

@@ -57,7 +57,8 @@ TEST(ImuPoseSource, FileTransportReplaysInDeviceTime) {
   EXPECT_EQ(st.parser.garbageBytes, 4u);                       // the junk bytes
   const int64_t t0 = int64_t(0xFFFFFFFFu - 3'000'000) * 1000;  // device time of the first sample
   double maxErr = 0;
-  for (double t = 2.0; t < m->durationSec() - 0.01; t += 0.0173) {  // after the tilt has settled
+  // After the tilt estimate has settled (its first 2 s fixation plus the second after it).
+  for (double t = 3.0; t < m->durationSec() - 0.01; t += 0.0173) {
     const auto s = src->stateAt(t0 + static_cast<int64_t>(t * 1e9));
     ASSERT_TRUE(s) << t;
     maxErr = std::max(maxErr, angleDeg(glm::dquat(s->orientation), glm::dquat(m->at(t).orientation)));
@@ -199,6 +200,11 @@ TEST(Emulator, ProgramWritesReportsAndAReplayableGroundTruth) {
   std::printf("emulator program -> file -> reader vs its ground-truth CSV: max error %.4f deg\n", maxErr);
   EXPECT_LT(maxErr, 0.05);
   EXPECT_EQ(src->stats().parser.timestampWraps, 1u);
+  // Replaying the ground truth: as long as the trace is fine; longer is an error, not a held pose.
+  const std::string replay =
+      std::string(STEADYXR_IMU_EMU) + " --motion trace:" + truth + " --out file:/dev/null";
+  EXPECT_EQ(std::system((replay + " --duration 6 2>/dev/null").c_str()), 0);
+  EXPECT_NE(std::system((replay + " --duration 6.01 2>/dev/null").c_str()), 0);
   // Bad arguments: usage and a non-zero exit.
   EXPECT_NE(
       std::system(

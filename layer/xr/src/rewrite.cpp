@@ -158,48 +158,19 @@ VkImageUsageFlags vulkanUsage(XrSwapchainUsageFlags u) {
   return v;
 }
 
-float halton(uint32_t index, uint32_t base) {
-  float f = 1.0f;
-  float r = 0.0f;
-  for (uint32_t i = index; i > 0; i /= base) {
-    f /= static_cast<float>(base);
-    r += f * static_cast<float>(i % base);
-  }
-  return r;
-}
-
 XrFovf jitterFov(const XrFovf& fov, float dxPx, float dyPx, uint32_t width, uint32_t height) {
-  if (width == 0 || height == 0) return fov;
-  // Shift in tangent space: the projection is linear in tan(angle) across the image.
-  const float tl = std::tan(fov.angleLeft), tr = std::tan(fov.angleRight);
-  const float tu = std::tan(fov.angleUp), td = std::tan(fov.angleDown);
-  const float dx = dxPx * (tr - tl) / static_cast<float>(width);
-  const float dy = dyPx * (tu - td) / static_cast<float>(height);
-  return {std::atan(tl + dx), std::atan(tr + dx), std::atan(tu - dy), std::atan(td - dy)};
-}
-
-bool undoesJitter(core::TemporalMethod method) {
-  switch (method) {
-    case core::TemporalMethod::Taa:
-    case core::TemporalMethod::Hmtaa:
-    case core::TemporalMethod::Vtaa:
-    case core::TemporalMethod::Hybrid:
-    case core::TemporalMethod::Steady:
-      return true;
-    case core::TemporalMethod::None:
-    case core::TemporalMethod::Fxaa:
-      break;
-  }
-  return false;
+  const core::Fov j =
+      core::jitterFov({fov.angleLeft, fov.angleRight, fov.angleUp, fov.angleDown}, dxPx, dyPx, width, height);
+  return {j.angleLeft, j.angleRight, j.angleUp, j.angleDown};
 }
 
 uint32_t JitterTracker::apply(XrFovf* fovs, const VkExtent2D* sizes, uint32_t count) {
   if (fovs == nullptr || sizes == nullptr || count == 0 || count > kMaxViews) return 0;
-  halton_ = halton_ % 8 + 1;
+  const glm::vec2 offset = core::haltonJitterPx(jitterCalls_++);
   Call& call = ring_[next_];
   call = {};
-  call.dxPx = halton(halton_, 2) - 0.5f;
-  call.dyPx = halton(halton_, 3) - 0.5f;
+  call.dxPx = offset.x;
+  call.dyPx = offset.y;
   uint32_t jittered = 0;
   for (uint32_t i = 0; i < count; ++i) {
     if (sizes[i].width == 0 || sizes[i].height == 0 || !isValidFov(fovs[i])) continue;

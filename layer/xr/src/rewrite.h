@@ -13,6 +13,7 @@
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
 
+#include "steadyxr/core/jitter.h"
 #include "steadyxr/core/params.h"
 
 #include <array>
@@ -94,15 +95,12 @@ XrSwapchainCreateInfo outputSwapchainInfo(const XrSwapchainCreateInfo& app, bool
 // Vulkan usage bits implied by OpenXR swapchain usage bits (what the runtime must at least set).
 VkImageUsageFlags vulkanUsage(XrSwapchainUsageFlags usage);
 
-// Halton low-discrepancy sequence value in [0, 1) (index >= 1).
-float halton(uint32_t index, uint32_t base);
+using core::halton;  // Halton low-discrepancy sequence value (steadyxr/core/jitter.h)
 // The fov whose image grid is shifted by (dxPx, dyPx) pixels of a width x height image
 // (x right, y down): the sub-pixel jitter the layer can inject through xrLocateViews.
 XrFovf jitterFov(const XrFovf& fov, float dxPx, float dyPx, uint32_t width, uint32_t height);
 
-// Whether the filter core un-jitters with this temporal method (only the history-blending
-// ones do); with the others the layer's jitter would only shake the image, so it injects none.
-bool undoesJitter(core::TemporalMethod method);
+using core::undoesJitter;  // steadyxr/core/jitter.h
 
 // The jitter of one submitted projection view as the filter core needs it.
 struct ViewUnjitter {
@@ -140,9 +138,9 @@ class JitterTracker {
     float dxPx, dyPx;
   };
   std::array<Call, kCalls> ring_{};
-  uint32_t next_ = 0;   // ring slot of the next call
-  uint32_t count_ = 0;  // recorded calls, up to kCalls
-  uint32_t halton_ = 0;
+  uint32_t next_ = 0;         // ring slot of the next call
+  uint32_t count_ = 0;        // recorded calls, up to kCalls
+  uint32_t jitterCalls_ = 0;  // calls jittered so far: core::haltonJitterPx's frame index
 };
 
 // Owns the copies handed to the next xrEndFrame. The app's structs are never modified; the

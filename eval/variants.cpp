@@ -1,0 +1,143 @@
+#include "variants.h"
+
+#include "steadyxr/core/jitter.h"
+
+#include <sstream>
+#include <string_view>
+
+namespace steadyxr::eval {
+
+std::vector<std::string> defaultMethods(bool sweeps) {
+  std::vector<std::string> m;
+  for (const char* base : {"none", "fxaa", "msaa2", "msaa4", "taa", "hmtaa", "vtaa", "hybrid", "steady"}) {
+    m.push_back(base);
+    m.push_back(std::string(base) + "+stereo");
+  }
+  m.push_back("default");
+  // Jittered variants of the temporal methods: seed 001's TAA is jittered, as every real TAA.
+  for (const char* base : {"taa", "hmtaa", "vtaa", "hybrid", "steady", "default"})
+    m.push_back(std::string(base) + "+jitter");
+  m.push_back("oracle");
+  if (sweeps) {
+    for (const char* s : {"hmtaa@hmax=10", "hmtaa@hmax=50", "hmtaa@wmin=0.15", "hmtaa@wmin=0.5",
+                          "taa@alpha=0.05", "taa@alpha=0.2", "default@amin=0.02", "default@amin=0.15",
+                          "default@beta=0.7", "default@catmull=1"}) {
+      m.push_back(s);
+    }
+  }
+  return m;
+}
+
+// "<method>[@key=value]...": a method name applyMethodName understands (or msaa2/msaa4[+stereo])
+// with parameter overrides for sweeps.
+bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
+  std::vector<std::string> parts;
+  std::stringstream ss(spec);
+  for (std::string p; std::getline(ss, p, '@');) parts.push_back(p);
+  if (parts.empty()) {
+    *error = "empty method";
+    return false;
+  }
+  std::string base = parts[0];
+  v->source = 1;
+  if (base == "oracle") {
+    v->oracle = true;
+    v->name = spec;
+    v->params = *core::applyMethodName("none");
+    if (parts.size() > 1) {
+      *error = "the oracle takes no parameters";
+      return false;
+    }
+    return true;
+  }
+  constexpr std::string_view kJitter = "+jitter";
+  if (base.ends_with(kJitter)) {
+    v->jitter = true;
+    base.resize(base.size() - kJitter.size());
+  }
+  for (int s : {2, 4}) {
+    const std::string msaa = "msaa" + std::to_string(s);
+    if (base == msaa || base == msaa + "+stereo") {
+      // MSAA images go through the core as pass-through, or stereo blending only.
+      v->source = s;
+      base = base == msaa ? "none" : "stereo";
+    }
+  }
+  auto params = core::applyMethodName(base);
+  if (!params) {
+    *error = "unknown method '" + parts[0] + "'";
+    return false;
+  }
+  if (v->jitter) {
+    // As the layer: jitter only where the core un-jitters it (else it would only shake the image).
+    if (v->source != 1 || !core::undoesJitter(params->temporal)) {
+      *error = "'" + parts[0] + "': only the history-blending temporal methods can be jittered";
+      return false;
+    }
+    params->jitteredInput = true;
+  }
+  for (size_t i = 1; i < parts.size(); ++i) {
+    const auto eq = parts[i].find('=');
+    if (eq == std::string::npos) {
+      *error = "bad parameter '" + parts[i] + "' in '" + spec + "'";
+      return false;
+    }
+    const std::string key = parts[i].substr(0, eq);
+    float value = 0.0f;
+    try {
+      value = std::stof(parts[i].substr(eq + 1));
+    } catch (...) {
+      *error = "bad value in '" + parts[i] + "'";
+      return false;
+    }
+    if (key == "hmax")
+      params->hMaxDegPerSec = value;
+    else if (key == "wmin")
+      params->wMin = value;
+    else if (key == "wlb")
+      params->wLowerBound = value;
+    else if (key == "amin")
+      params->vtaaAlphaMin = value;
+    else if (key == "alpha")
+      params->taaAlpha = value;
+    else if (key == "gamma")
+      params->taaClipGamma = value;
+    else if (key == "beta")
+      params->stereoBetaMin = value;
+    else if (key == "d")
+      params->sampleD[0] = value;
+    else if (key == "catmull")
+      params->historyFilter = value != 0.0f ? core::HistoryFilter::CatmullRom : core::HistoryFilter::Bilinear;
+    else if (key == "floor")  // steady's ablation switches and constants (core::Params)
+      params->steadyAlphaFloor = value;
+    else if (key == "conf")
+      params->steadyConfidence = value != 0.0f;
+    else if (key == "reject")
+      params->steadyClipRejects = value != 0.0f;
+    else if (key == "blur")
+      params->steadyBlurBudgetPx2 = value;
+    else if (key == "footprint")
+      params->steadyFootprint = value;
+    else if (key == "near")
+      params->steadyNearestDepthM = value;
+    else if (key == "interp")
+      params->steadyInterpolated = value != 0.0f;
+    else {
+      *error = "unknown parameter '" + key +
+               "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d, catmull, floor, conf, reject, blur, footprint, near, "
+               "interp)";
+      return false;
+    }
+    v->sweep = true;
+  }
+  const std::string problem = core::validate(*params);
+  if (!problem.empty()) {
+    *error = "method '" + spec + "': " + problem;
+    return false;
+  }
+  v->params = *params;
+  v->name = spec;
+  return true;
+}
+
+}  // namespace steadyxr::eval
