@@ -21,7 +21,7 @@ enum class TemporalMethod : uint8_t {
 };
 
 // The shipped default temporal method: decided by the evaluation (eval/), one line to change.
-inline constexpr TemporalMethod kDefaultTemporalMethod = TemporalMethod::Hybrid;
+inline constexpr TemporalMethod kDefaultTemporalMethod = TemporalMethod::Steady;
 
 // How the temporal passes resample the reprojected history.
 enum class HistoryFilter : uint8_t {
@@ -63,10 +63,10 @@ struct Params {
   bool steadyClipRejects = false;
   // Resampling-blur guard: a bilinear history tap at sub-pixel offset (fx, fy) adds fx(1-fx) +
   // fy(1-fy) px^2 of blur variance; alpha is raised so that the steady-state blur of the history,
-  // (1 - alpha) / alpha times that, stays within steadyBlurBudgetPx2 (0 = off). 1/2 = the blur of
-  // one bilinear resample at the worst offset (1/2, 1/2): the history may never be blurrier than
-  // a single reprojection (as the runtime's timewarp makes anyway).
-  float steadyBlurBudgetPx2 = 0.5f;
+  // (1 - alpha) / alpha times that, stays within steadyBlurBudgetPx2 (0 = off). 1/6 = 1/12 + 1/12,
+  // the variance of the pixel's own one-pixel box footprint in x and y: the history may be no
+  // blurrier than the pixel-area average it estimates. (Measured beside 1/4 and 1/2: README.)
+  float steadyBlurBudgetPx2 = 1.0f / 6.0f;
   // The current frame's estimate of the pixel's area average (the ground truth of a pixel; a
   // lone centre sample aliases): its 3x3 through [k, 1 - 2k, k] per axis. k = 1/24 gives the
   // filter the second moment of the pixel's own box footprint, 2k = 1/12 px^2 (the box average of
