@@ -34,6 +34,10 @@ layout(set = 0, binding = 4, rgba16f) uniform writeonly image2D uHistOut;
 layout(set = 0, binding = 5, OUT_FORMAT) uniform writeonly image2D uOut;
 
 // Must match PassUniforms in filter.cpp (std140).
+// This eye's input as the app submitted it: the alpha of every output (alphaOf). The history's
+// alpha is the temporal method's own (steady: its sample count).
+layout(set = 0, binding = 7) uniform sampler2D uAppInput;
+
 layout(set = 0, binding = 6, std140) uniform PassParams {
   mat4 reproj[4];     // (x, y, 1, 1/z) of this pixel -> homogeneous pixel coords in src1's rect
   vec4 sampleW;       // W(d_i), seed 003 Eq. 2
@@ -50,7 +54,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
                       // clipRejects (0/1), 1/blur budget (0 = off) in place of wMin, wLowerBound
   ivec4 flags;        // (mode), (sampleCount), historyValid, (writeOut); () = spec constant now
   ivec4 flags2;       // (encodeSrgb), (swapRB), (writeHist), (hasDepth)
-  ivec4 outOffset;    // xy where pixel (0,0) goes in uOut
+  ivec4 outOffset;    // xy where pixel (0,0) goes in uOut; zw: uAppInput's rect offset
   vec4 jitter;        // xy: src0's grid offset in pixels (its pixel c - jitter holds our pixel c);
                       // z (steady): the reprojection's parallax spread without depth, px^2
 } P;
@@ -196,8 +200,21 @@ float linearToSrgb1(float c) {
   return c <= 0.0031308 ? c * 12.92 : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
 }
 
-void writeOutput(ivec2 p, vec3 c) {
-  vec4 o = vec4(c, 1.0);
+// Alpha is carried through, never filtered: the filters remove colour aliasing, and a
+// projection layer's alpha is a blend/passthrough mask, not colour. Averaged over time or taken
+// from the other eye it would smear the mask's edges or leak one eye's mask into the other, and a
+// layer's alpha must reach the compositor exactly as the app wrote it. So every pass outputs the
+// app's input alpha at the same pixel (uAppInput: also in the stereo pass, whose src0 is then
+// this frame's history). (Unpremultiplied layers: layer/xr/README.md.)
+float alphaOf(ivec2 p) {
+  return texelFetch(uAppInput, P.outOffset.zw + clamp(p, ivec2(0), P.src0Rect.zw - 1), 0).a;
+}
+
+// After fxaa the history is only the stereo pass's src0; its alpha goes unread.
+void writeHistory(ivec2 p, vec3 c) { imageStore(uHistOut, p, vec4(c, 1.0)); }
+
+// o: linear RGBA; encoded for an sRGB target (alpha is linear in every format, never encoded).
+void storeOutput(ivec2 p, vec4 o) {
   if (kEncodeSrgb) {
     o.rgb = clamp(o.rgb, 0.0, 1.0);
     o.rgb = vec3(linearToSrgb1(o.r), linearToSrgb1(o.g), linearToSrgb1(o.b));
@@ -205,6 +222,8 @@ void writeOutput(ivec2 p, vec3 c) {
   if (kSwapRB) o = o.bgra;
   imageStore(uOut, P.outOffset.xy + p, o);
 }
+
+void writeOutput(ivec2 p, vec3 c) { storeOutput(p, vec4(c, alphaOf(p))); }
 
 // Reprojects pixel centre p (with 1/z) through matrix m; returns false when behind or outside.
 bool reproject(mat4 m, vec2 pc, float invZ, out vec2 q, out float invZOther) {

@@ -6,10 +6,12 @@
 
 void processPixel(ivec2 p, ivec2 o) {
   const bool inRange = all(lessThan(p, P.src0Rect.zw));
-  vec3 c = fetchSrc0(p);  // sanitised unless the input is 8-bit (finite by construction)
+  // The output is the input texel as is (`none` is a bit-exact pass-through, alpha included);
+  // only the history, which later passes blend, is sanitised.
+  vec4 texel = texelFetch(uSrc0, P.src0Rect.xy + clamp(p, ivec2(0), P.src0Rect.zw - 1), 0);
   if (inRange) {
-    if (kWriteHist) imageStore(uHistOut, p, vec4(c, 1.0));
-    if (kWriteOut) writeOutput(p, c);
+    if (kWriteHist) imageStore(uHistOut, p, vec4((kCleanSrc & 1) != 0 ? texel.rgb : sanitize(texel.rgb), texel.a));
+    if (kWriteOut) storeOutput(p, texel);
   }
 }
 

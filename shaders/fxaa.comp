@@ -85,6 +85,6 @@ void main() {
     finalOffset = max(finalOffset, subOffset);
     result = sampleAt(pc + across * (finalOffset * stepLen));
   }
-  if (kWriteHist) imageStore(uHistOut, p, vec4(result, 1.0));
+  if (kWriteHist) writeHistory(p, result);
   if (kWriteOut) writeOutput(p, result);
 }

@@ -166,6 +166,7 @@ void processPixel(ivec2 p, ivec2 o) {
   }
   result = clamp(result, vec3(0.0), vec3(65000.0));  // stays finite in half precision
   if (inRange) {
+    // The history's alpha is steady's sample count; the output's alpha is the app's (alphaOf).
     if (kWriteHist) imageStore(uHistOut, p, vec4(result, count));
     if (kWriteOut) writeOutput(p, result);
   }

@@ -97,6 +97,56 @@ TEST(PassThrough, Reasons) {
   EXPECT_EQ(checkProjection(projection(ok, 2), f.lookup()), PassReason::UnsupportedFormat);
 }
 
+TEST(PassThrough, AlphaBlendedLayersFilteredOnlyWithPremultipliedColour) {
+  Fixture f;
+  const XrSwapchain s = fakeSwapchain(1);
+  f.known[s] = facts(320, 1);
+  const XrCompositionLayerProjectionView ok[] = {view(s, 0, 0), view(s, 0, 0)};
+  XrCompositionLayerProjection p = projection(ok, 2);
+  p.layerFlags = XR_COMPOSITION_LAYER_BLEND_TEXTURE_SOURCE_ALPHA_BIT;
+  EXPECT_EQ(checkProjection(p, f.lookup()), std::nullopt);  // premultiplied: filtered, alpha carried
+  p.layerFlags |= XR_COMPOSITION_LAYER_UNPREMULTIPLIED_ALPHA_BIT;
+  EXPECT_EQ(checkProjection(p, f.lookup()), PassReason::UnpremultipliedAlpha);
+  p.layerFlags = XR_COMPOSITION_LAYER_UNPREMULTIPLIED_ALPHA_BIT;  // alpha unused: opaque
+  EXPECT_EQ(checkProjection(p, f.lookup()), std::nullopt);
+}
+
+TEST(Scan, InvalidFramesAreNeverRead) {
+  EXPECT_EQ(scanFrame(nullptr, 16).problem, FrameProblem::NullInfo);
+  auto info = makeXr<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
+  info.layerCount = 1;  // the crash of issue 15: layers = NULL
+  EXPECT_EQ(scanFrame(&info, 16).problem, FrameProblem::NullLayers);
+  const XrCompositionLayerBaseHeader* one[] = {nullptr};
+  info.layers = one;
+  EXPECT_EQ(scanFrame(&info, 16).problem, FrameProblem::NullLayer);
+  info.layerCount = 17;  // past the runtime's limit: not one entry is read
+  EXPECT_EQ(scanFrame(&info, 16).problem, FrameProblem::TooManyLayers);
+  info.layerCount = 0;
+  info.type = XR_TYPE_FRAME_STATE;
+  EXPECT_EQ(scanFrame(&info, 16).problem, FrameProblem::WrongType);
+  info.type = XR_TYPE_FRAME_END_INFO;
+  const FrameScan empty = scanFrame(&info, 16);
+  EXPECT_TRUE(empty.ok());
+  EXPECT_FALSE(empty.projection);
+  auto quad = makeXr<XrCompositionLayerQuad>(XR_TYPE_COMPOSITION_LAYER_QUAD);
+  const XrCompositionLayerProjection proj = projection(nullptr, 2);
+  const XrCompositionLayerBaseHeader* layers[] = {
+      reinterpret_cast<const XrCompositionLayerBaseHeader*>(&quad),
+      reinterpret_cast<const XrCompositionLayerBaseHeader*>(&proj)};
+  info.layers = layers;
+  info.layerCount = 2;
+  EXPECT_EQ(scanFrame(&info, 16).projection, 1u);
+}
+
+TEST(Scan, CyclicNextChainEndsTheWalk) {
+  XrBaseInStructure a{static_cast<XrStructureType>(1000999000), nullptr};
+  XrBaseInStructure b{static_cast<XrStructureType>(1000999001), &a};
+  a.next = &b;  // a -> b -> a -> ...
+  XrCompositionLayerProjectionView v = view(fakeSwapchain(1), 0, 0);
+  v.next = &a;
+  EXPECT_EQ(findDepthInfo(v), nullptr);
+}
+
 TEST(Rewrite, CopiesWithoutTouchingTheAppStructs) {
   const XrSwapchain app = fakeSwapchain(1), out = fakeSwapchain(100);
   auto depth = makeXr<XrCompositionLayerDepthInfoKHR>(XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR);

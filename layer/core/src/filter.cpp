@@ -45,12 +45,13 @@ enum class Pass : uint32_t { Copy, Temporal, Stereo, Fxaa, Count };
 enum OutFmt : uint32_t { kOut8 = 0, kOut16 = 1 };
 
 // The one descriptor set layout of every pass (common.glsl): 0-3 samplers (src0, src1, depth0,
-// depth1), 4-5 storage images (history out, output), 6 the uniforms.
-constexpr uint32_t kBindings = 7;
+// depth1), 4-5 storage images (history out, output), 6 the uniforms, 7 a sampler (the app's
+// input of this eye, whose alpha every output carries).
+constexpr uint32_t kBindings = 8;
 constexpr VkDescriptorType descriptorType(uint32_t binding) {
-  return binding < 4   ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
-         : binding < 6 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
-                       : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+  return binding < 4 || binding == 7 ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+         : binding < 6               ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+                                     : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
 }
 
 // Mirrors PassParams in shaders/common.glsl (std140: every member is 16-byte aligned).
@@ -466,7 +467,7 @@ bool Filter::Impl::init(std::string* error) {
       return fail(error, "vkCreateFence failed"), false;
     s.fence = Unique<VkFence>(device, fence);
     std::array<VkDescriptorPoolSize, 3> sizes{{
-        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4 * kMaxDispatches},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 5 * kMaxDispatches},
         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * kMaxDispatches},
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kMaxDispatches},
     }};
@@ -855,7 +856,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   const uint32_t groupX = cpuDevice ? kCpuGroupX : kGpuGroupX;
   const uint32_t groupY = cpuDevice ? kCpuGroupY : kGpuGroupY;
   auto dispatch = [&](Pass pass, OutFmt fmt, const PassUniforms& u, Binding src0, Binding src1, Binding d0,
-                      Binding d1, VkImageView histOut, VkImageView out) -> bool {
+                      Binding d1, Binding appIn, VkImageView histOut, VkImageView out) -> bool {
     const bool writeOut = u.flags.w != 0;
     const bool blocked = pass != Pass::Fxaa && blockPixels(params, ctx);  // fxaa's reads follow the edges
     const SpecKey spec{
@@ -899,6 +900,8 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
         {VK_NULL_HANDLE, out ? out : (fmt == kOut8 ? dummy8.view.get() : dummy16.view.get()),
          VK_IMAGE_LAYOUT_GENERAL},
         {},  // 6: the uniform buffer
+        {samplerNearest.get(), appIn.view ? appIn.view : dummySampled.view,
+         appIn.view ? appIn.layout : dummySampled.layout},
     }};
     const VkDescriptorBufferInfo bi{s.ubo.get(), offset, sizeof(PassUniforms)};
     std::array<VkWriteDescriptorSet, kBindings> w{};
@@ -940,6 +943,8 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
                        1.0f / static_cast<float>(in.extent.height), 0, 0};
     const ImageRef& out = output.views[e];
     if (!targets[e].scratch) u.outOffset = {out.rect.offset.x, out.rect.offset.y, 0, 0};
+    u.outOffset.z = in.rect.offset.x;  // uAppInput's rect (its size is src0's)
+    u.outOffset.w = in.rect.offset.y;
     u.flags2 = {targets[e].srgb ? 1 : 0, targets[e].swap ? 1 : 0, 0, 0};
     u.w0 = {params.taaAlpha, params.taaClipGamma, params.vtaaAlphaMin, shape};
     u.w1 = {params.wMin, params.wLowerBound, params.stereoDepthTolerance, invFar};
@@ -1008,10 +1013,10 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
             std::abs(u.jitter.y) > 1.0f)
           u.jitter = glm::vec4(0.0f);  // sub-pixel only; anything else is a caller bug: ignore it
         if (steady && eye.valid) u.jitter.z = hasDepth[e] ? 0.0f : parallaxSpreadPx2(params, v, eye);
-        ok =
-            dispatch(Pass::Temporal, fmt, u, inputs[e], historyBinding(e, prev), depths[e], {}, histOut, out);
+        ok = dispatch(Pass::Temporal, fmt, u, inputs[e], historyBinding(e, prev), depths[e], {}, inputs[e],
+                      histOut, out);
       } else {
-        ok = dispatch(fxaa ? Pass::Fxaa : Pass::Copy, fmt, u, inputs[e], {}, {}, {}, histOut, out);
+        ok = dispatch(fxaa ? Pass::Fxaa : Pass::Copy, fmt, u, inputs[e], {}, {}, {}, inputs[e], histOut, out);
       }
     }
   }
@@ -1056,8 +1061,8 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
       }
       u.w0.z = params.stereoBetaMin;
       u.flags.w = 1;
-      ok = dispatch(Pass::Stereo, targets[e].fmt, u, src0, src1, depths[e], depths[o], VK_NULL_HANDLE,
-                    targets[e].view);
+      ok = dispatch(Pass::Stereo, targets[e].fmt, u, src0, src1, depths[e], depths[o], inputs[e],
+                    VK_NULL_HANDLE, targets[e].view);
     }
   }
   if (s.queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, s.queries.get(), 2);

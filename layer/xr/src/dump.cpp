@@ -3,10 +3,13 @@
 #include "rewrite.h"
 #include "steadyxr/core/vk_handle.h"
 
+#include <atomic>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <vector>
+
+#include <unistd.h>
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_STATIC
@@ -26,15 +29,29 @@ VkImageAspectFlags colorAspect() {
 
 }  // namespace
 
+ImageDumper::ImageDumper(std::string dir, uint32_t maxFrames) : dir_(std::move(dir)), maxFrames_(maxFrames) {
+  static std::atomic<uint32_t> dumpers{0};
+  tag_ = "p" + std::to_string(static_cast<long>(getpid())) + "s" + std::to_string(++dumpers);
+}
+
 void ImageDumper::dump(core::VulkanContext& vk, const core::StereoFrame& in, const core::StereoOutput& out,
                        Logger& log) {
   if (!wants()) return;
-  std::error_code ec;
-  std::filesystem::create_directories(dir_, ec);
+  if (!folderChecked_) {
+    folderChecked_ = true;
+    std::error_code ec;
+    std::filesystem::create_directories(dir_, ec);
+    if (!std::filesystem::is_directory(dir_, ec)) {
+      disabled_ = true;
+      log.log(LogLevel::Warn, "dump: cannot create folder '" + dir_ + "'" +
+                                  (ec ? " (" + ec.message() + ")" : "") + ": dumping disabled");
+      return;
+    }
+  }
   char prefix[32];
-  std::snprintf(prefix, sizeof prefix, "frame%04u", frame_);
+  std::snprintf(prefix, sizeof prefix, "frame%04u_", frame_);
   for (uint32_t v = 0; v < in.viewCount; ++v) {
-    const std::string base = dir_ + "/" + prefix + (v == 0 ? "_left" : "_right");
+    const std::string base = dir_ + "/" + prefix + tag_ + (v == 0 ? "_left" : "_right");
     writeImage(vk, in.views[v].color, base + "_in.png", log);
     writeImage(vk, out.views[v], base + "_out.png", log);
   }

@@ -134,7 +134,10 @@ XRAPI_ATTR XrResult XRAPI_CALL hookDestroyInstance(XrInstance instance) {
 
 std::optional<XrGraphicsBindingVulkanKHR> findVulkanBinding(const void* next) {
   // XrGraphicsBindingVulkan2KHR (XR_KHR_vulkan_enable2) is the same struct and type value.
-  for (auto* h = static_cast<const XrBaseInStructure*>(next); h != nullptr; h = h->next) {
+  // The walk is bounded: a cyclic chain ends it.
+  uint32_t walked = 0;
+  for (auto* h = static_cast<const XrBaseInStructure*>(next); h != nullptr && walked < kMaxNextChain;
+       h = h->next, ++walked) {
     if (h->type == XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR)
       return *reinterpret_cast<const XrGraphicsBindingVulkanKHR*>(h);
   }
@@ -147,13 +150,18 @@ XRAPI_ATTR XrResult XRAPI_CALL hookCreateSession(XrInstance instance, const XrSe
     std::shared_ptr<InstanceState> inst = registry().instance(instance);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
     const XrResult r = inst->next.createSession(instance, info, session);
-    if (XR_FAILED(r) || info == nullptr) return r;
+    if (XR_FAILED(r) || info == nullptr || session == nullptr) return r;
+    // The session exists for the app from here on: it must be registered whatever happens, or
+    // every later call on it would fail with XR_ERROR_HANDLE_INVALID. Session's constructor
+    // catches its own set-up failures; this catches the allocation itself failing.
     try {
-      registry().addSession(inst.get(),
-                            std::make_shared<Session>(inst, *session, findVulkanBinding(info->next)));
+      registry().addSession(inst.get(), std::make_shared<Session>(inst, *session, info->systemId,
+                                                                  findVulkanBinding(info->next)));
     } catch (const std::exception& e) {
       inst->log->log(LogLevel::Error,
-                     std::string("session setup failed (") + e.what() + "): passing through");
+                     std::string("session set-up failed (") + e.what() + "): passing through");
+      registry().addSession(inst.get(),
+                            std::make_shared<Session>(inst, *session, info->systemId, std::nullopt));
     }
     return r;
   });
@@ -252,8 +260,10 @@ XRAPI_ATTR XrResult XRAPI_CALL hookCreateVulkanInstanceKHR(XrInstance instance,
     if (!inst || inst->next.createVulkanInstanceKHR == nullptr) return XR_ERROR_HANDLE_INVALID;
     // The filter core needs Vulkan 1.1: ask for it when the app asks for less (a later version
     // changes nothing for an app written against 1.0). Fall back to the app's request.
-    const VkApplicationInfo* appInfo =
-        (info && info->vulkanCreateInfo) ? info->vulkanCreateInfo->pApplicationInfo : nullptr;
+    // Invalid input (no create info) goes to the runtime untouched: it answers it.
+    if (info == nullptr || info->vulkanCreateInfo == nullptr)
+      return inst->next.createVulkanInstanceKHR(instance, info, vkInstance, vkResult);
+    const VkApplicationInfo* appInfo = info->vulkanCreateInfo->pApplicationInfo;
     const uint32_t asked =
         (appInfo == nullptr || appInfo->apiVersion == 0) ? VK_API_VERSION_1_0 : appInfo->apiVersion;
     XrResult r = XR_ERROR_RUNTIME_FAILURE;
@@ -341,17 +351,25 @@ XRAPI_ATTR XrResult XRAPI_CALL createApiLayerInstance(const XrInstanceCreateInfo
     nextLayerInfo.nextInfo = layerInfo->nextInfo->next;
     const PFN_xrGetInstanceProcAddr nextGipa = layerInfo->nextInfo->nextGetInstanceProcAddr;
     std::vector<std::string> messages;
-    const Config config = loadConfig(info->applicationInfo.applicationName, processEnvironment(), &messages);
+    // applicationName is a fixed array the app should NUL-terminate; read no further than it.
+    const std::string appName(info->applicationInfo.applicationName,
+                              strnlen(info->applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE));
+    const Config config = loadConfig(appName, processEnvironment(), &messages);
 
-    // pose_source = imu needs XrTime -> CLOCK_MONOTONIC: enable XR_KHR_convert_timespec_time
-    // for the layer's own use; without it (runtime lacks it) create the instance as asked.
+    // pose_source = imu needs XrTime -> CLOCK_MONOTONIC (the IMU's clock), and
+    // XR_KHR_convert_timespec_time is the only way to get it: the layer enables it for its own
+    // use, only then. Enabling an instance extension adds functions and changes nothing the
+    // app's calls do; a runtime without it gets the instance as asked (head speed then comes
+    // from the runtime's poses). Nothing is added for an invalid extension list.
     XrResult r = XR_ERROR_EXTENSION_NOT_PRESENT;
     bool timespecAdded = false;
-    if (config.enabled && config.poseSource == PoseSourceKind::Imu) {
+    const bool extensionsReadable =
+        info->enabledExtensionCount == 0 || info->enabledExtensionNames != nullptr;
+    if (config.enabled && config.poseSource == PoseSourceKind::Imu && extensionsReadable) {
       std::vector<const char*> exts(info->enabledExtensionNames,
                                     info->enabledExtensionNames + info->enabledExtensionCount);
       const bool present = std::any_of(exts.begin(), exts.end(), [](const char* e) {
-        return std::strcmp(e, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME) == 0;
+        return e != nullptr && std::strcmp(e, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME) == 0;
       });
       if (!present) {
         exts.push_back(XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME);
@@ -367,7 +385,7 @@ XRAPI_ATTR XrResult XRAPI_CALL createApiLayerInstance(const XrInstanceCreateInfo
 
     auto state = std::make_shared<InstanceState>();
     state->handle = *instance;
-    state->applicationName = info->applicationInfo.applicationName;
+    state->applicationName = appName;
     state->config = config;
     state->log = std::make_unique<Logger>(state->config.logLevel, state->config.logFile);
     for (const std::string& m : messages) state->log->log(LogLevel::Warn, m);

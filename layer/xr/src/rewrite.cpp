@@ -33,10 +33,57 @@ std::string_view toString(PassReason r) {
       return "filter_error";
     case PassReason::Compiling:
       return "compiling";
+    case PassReason::InvalidFrame:
+      return "invalid_frame";
+    case PassReason::UnpremultipliedAlpha:
+      return "unpremultiplied_alpha";
+    case PassReason::RuntimeRejected:
+      return "runtime_rejected";
     case PassReason::Count:
       break;
   }
   return "unknown";
+}
+
+std::string_view toString(FrameProblem p) {
+  switch (p) {
+    case FrameProblem::None:
+      return "none";
+    case FrameProblem::NullInfo:
+      return "null XrFrameEndInfo";
+    case FrameProblem::WrongType:
+      return "XrFrameEndInfo with a wrong type";
+    case FrameProblem::TooManyLayers:
+      return "layerCount above the runtime's maxLayerCount";
+    case FrameProblem::NullLayers:
+      return "layerCount > 0 with layers = NULL";
+    case FrameProblem::NullLayer:
+      return "a NULL entry in layers";
+  }
+  return "unknown";
+}
+
+FrameScan scanFrame(const XrFrameEndInfo* info, uint32_t maxLayerCount) {
+  FrameScan scan;
+  if (info == nullptr) {
+    scan.problem = FrameProblem::NullInfo;
+  } else if (info->type != XR_TYPE_FRAME_END_INFO) {
+    scan.problem = FrameProblem::WrongType;
+  } else if (info->layerCount > std::min(maxLayerCount, kMaxLayerLimit)) {
+    scan.problem = FrameProblem::TooManyLayers;
+  } else if (info->layerCount > 0 && info->layers == nullptr) {
+    scan.problem = FrameProblem::NullLayers;
+  }
+  for (uint32_t i = 0; scan.ok() && i < info->layerCount; ++i) {
+    const XrCompositionLayerBaseHeader* l = info->layers[i];
+    if (l == nullptr) {
+      scan.problem = FrameProblem::NullLayer;
+    } else if (!scan.projection && l->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
+      scan.projection = i;
+    }
+  }
+  if (!scan.ok()) scan.projection.reset();
+  return scan;
 }
 
 bool isFilterableColorFormat(int64_t f) {
@@ -89,6 +136,11 @@ bool isValidFov(const XrFovf& f) {
 std::optional<PassReason> checkProjection(const XrCompositionLayerProjection& layer,
                                           const SwapchainLookup& lookup) {
   if (layer.viewCount < 1 || layer.viewCount > 2 || layer.views == nullptr) return PassReason::ViewCount;
+  // Straight (unpremultiplied) colour under alpha 0 is whatever the app left there; every
+  // neighbourhood or reprojection filter would pull it into the visible edge pixels.
+  if ((layer.layerFlags & XR_COMPOSITION_LAYER_BLEND_TEXTURE_SOURCE_ALPHA_BIT) &&
+      (layer.layerFlags & XR_COMPOSITION_LAYER_UNPREMULTIPLIED_ALPHA_BIT))
+    return PassReason::UnpremultipliedAlpha;
   for (uint32_t i = 0; i < layer.viewCount; ++i) {
     const XrCompositionLayerProjectionView& v = layer.views[i];
     const std::optional<SwapchainFacts> facts = lookup(v.subImage.swapchain);
@@ -108,7 +160,9 @@ std::optional<PassReason> checkProjection(const XrCompositionLayerProjection& la
 }
 
 const XrCompositionLayerDepthInfoKHR* findDepthInfo(const XrCompositionLayerProjectionView& view) {
-  for (auto* h = static_cast<const XrBaseInStructure*>(view.next); h != nullptr; h = h->next) {
+  uint32_t walked = 0;
+  for (auto* h = static_cast<const XrBaseInStructure*>(view.next); h != nullptr && walked < kMaxNextChain;
+       h = h->next, ++walked) {
     if (h->type == XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR) {
       return reinterpret_cast<const XrCompositionLayerDepthInfoKHR*>(h);
     }
@@ -211,15 +265,20 @@ ViewUnjitter JitterTracker::find(uint32_t view, const XrFovf& submitted, VkExten
 }
 
 FrameRewrite::FrameRewrite(const XrFrameEndInfo& app) : info_(app) {
+  if (app.layers == nullptr || app.layerCount == 0 || app.layerCount > kMaxLayerLimit) return;
   layers_.assign(app.layers, app.layers + app.layerCount);
   info_.layers = layers_.data();
 }
 
 void FrameRewrite::replaceProjection(uint32_t index, const std::vector<XrSwapchain>& swapchains,
                                      const std::vector<XrFovf>* fovs) {
-  if (index >= layers_.size() || layers_[index]->type != XR_TYPE_COMPOSITION_LAYER_PROJECTION) return;
+  if (index >= layers_.size() || layers_[index] == nullptr ||
+      layers_[index]->type != XR_TYPE_COMPOSITION_LAYER_PROJECTION)
+    return;
   const auto& src = *reinterpret_cast<const XrCompositionLayerProjection*>(layers_[index]);
-  if (swapchains.size() != src.viewCount) return;
+  // The views are read only as far as checkProjection allows (1 or 2, non-null).
+  if (src.views == nullptr || src.viewCount < 1 || src.viewCount > 2 || swapchains.size() != src.viewCount)
+    return;
   std::vector<XrCompositionLayerProjectionView>& views =
       views_.emplace_back(src.views, src.views + src.viewCount);
   for (uint32_t i = 0; i < src.viewCount; ++i) {

@@ -55,7 +55,10 @@ enum class PassReason : uint8_t {
   OutputSwapchain,
   XrError,
   FilterError,
-  Compiling,  // the filter's pipelines are still compiling in the background (not a failure)
+  Compiling,             // the filter's pipelines are still compiling in the background (not a failure)
+  InvalidFrame,          // the XrFrameEndInfo failed scanFrame: forwarded untouched
+  UnpremultipliedAlpha,  // alpha-blended with unpremultiplied colour (layer/xr/README.md)
+  RuntimeRejected,       // filtered, but the runtime's xrEndFrame failed: not counted as filtered
   Count
 };
 std::string_view toString(PassReason r);
@@ -77,6 +80,29 @@ bool isSrgbFormat(int64_t vkFormat);
 bool isDepthFormat(int64_t vkFormat);
 bool isValidPose(const XrPosef& pose);
 bool isValidFov(const XrFovf& fov);
+
+// Bounds on what the layer reads of the app's structs: it is a guest in the app's process and
+// must never fault on bad input, so every pointer and count is checked before it is read.
+inline constexpr uint32_t kMaxNextChain = 64;  // `next` structs walked at most: a cycle ends the walk
+// XR_MIN_COMPOSITION_LAYERS_SUPPORTED (OpenXR 1.0 spec, XrSystemGraphicsProperties): every
+// runtime takes at least this many layers; used when the runtime's own limit is unknown.
+inline constexpr uint32_t kMinLayerLimit = 16;
+inline constexpr uint32_t kMaxLayerLimit = 4096;  // a runtime reporting more is not believed
+
+// Why an XrFrameEndInfo is forwarded untouched (the runtime or the validation layer answers it).
+enum class FrameProblem : uint8_t { None, NullInfo, WrongType, TooManyLayers, NullLayers, NullLayer };
+std::string_view toString(FrameProblem p);
+
+struct FrameScan {
+  FrameProblem problem = FrameProblem::None;
+  std::optional<uint32_t> projection;  // the first projection layer: the one the layer filters
+  bool ok() const { return problem == FrameProblem::None; }
+};
+// Reads the frame only as far as it is valid: layerCount <= maxLayerCount (the runtime's
+// XrSystemGraphicsProperties::maxLayerCount; larger counts are refused by the runtime with
+// XR_ERROR_LAYER_LIMIT_EXCEEDED, so the array is never read past that), a non-null array, no
+// null entry. A frame with a problem must be forwarded exactly as the app submitted it.
+FrameScan scanFrame(const XrFrameEndInfo* info, uint32_t maxLayerCount);
 
 // nullopt: the projection layer can be filtered.
 std::optional<PassReason> checkProjection(const XrCompositionLayerProjection& layer,
@@ -147,6 +173,8 @@ class JitterTracker {
 // copies keep the app's `next` chains (depth info still names the app's depth swapchain).
 class FrameRewrite {
  public:
+  // `app` must have passed scanFrame; anything else is kept as is (never read) and
+  // replaceProjection does nothing.
   explicit FrameRewrite(const XrFrameEndInfo& app);
   // Replaces layer `index` (a projection layer) by a copy whose view i uses swapchains[i];
   // `fovs` (optional) replaces the views' fov (un-jitter).

@@ -1,19 +1,15 @@
 #include "session.h"
 
-#include "steadyxr/core/view_math.h"
-
-#include <glm/gtc/quaternion.hpp>
-
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <set>
 #include <sstream>
+#include <utility>
 
 namespace steadyxr::layer {
 namespace {
-
-constexpr XrDuration kOutputWaitNs = 1'000'000'000;  // bounded: never hang the frame loop
 
 template <typename T>
 bool load(XrInstance instance, PFN_xrGetInstanceProcAddr gipa, const char* name, T* out) {
@@ -21,22 +17,6 @@ bool load(XrInstance instance, PFN_xrGetInstanceProcAddr gipa, const char* name,
   if (XR_FAILED(gipa(instance, name, &f)) || f == nullptr) return false;
   *out = reinterpret_cast<T>(f);
   return true;
-}
-
-core::Pose toPose(const XrPosef& p) {
-  core::Pose out;
-  out.orientation = glm::quat(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
-  out.position = glm::vec3(p.position.x, p.position.y, p.position.z);
-  return out;
-}
-
-core::Fov toFov(const XrFovf& f) {
-  return {f.angleLeft, f.angleRight, f.angleUp, f.angleDown};
-}
-
-VkRect2D toRect(const XrRect2Di& r) {
-  return {{r.offset.x, r.offset.y},
-          {static_cast<uint32_t>(r.extent.width), static_cast<uint32_t>(r.extent.height)}};
 }
 
 }  // namespace
@@ -58,9 +38,38 @@ bool loadDispatch(XrInstance i, PFN_xrGetInstanceProcAddr g, Dispatch* d) {
                   load(i, g, "xrDestroySpace", &d->destroySpace) &&
                   load(i, g, "xrLocateSpace", &d->locateSpace) &&
                   load(i, g, "xrResultToString", &d->resultToString);
+  load(i, g, "xrGetSystemProperties", &d->getSystemProperties);             // maxLayerCount
   load(i, g, "xrCreateVulkanInstanceKHR", &d->createVulkanInstanceKHR);     // optional
   load(i, g, "xrConvertTimeToTimespecTimeKHR", &d->convertTimeToTimespec);  // optional
   return ok;
+}
+
+uint32_t deviceApiVersion(VkPhysicalDevice physicalDevice, VkDevice device) {
+  if (physicalDevice == VK_NULL_HANDLE || device == VK_NULL_HANDLE) return VK_API_VERSION_1_0;
+  // Core device commands of each version, each from a different extension, none a loader
+  // trampoline (the loader hands out vkGetDeviceQueue2 whatever the version: measured on
+  // Vulkan-Loader 1.3.239 and 1.4.309 with lavapipe).
+  struct Level {
+    uint32_t version;
+    std::array<const char*, 3> commands;
+  };
+  constexpr Level kLevels[] = {
+      {VK_API_VERSION_1_1, {"vkTrimCommandPool", "vkGetDescriptorSetLayoutSupport", "vkCmdDispatchBase"}},
+      {VK_API_VERSION_1_2, {"vkGetBufferDeviceAddress", "vkCmdDrawIndirectCount", "vkResetQueryPool"}},
+      {VK_API_VERSION_1_3,
+       {"vkCmdSetCullMode", "vkCmdBeginRendering", "vkGetDeviceBufferMemoryRequirements"}},
+  };
+  uint32_t version = VK_API_VERSION_1_0;
+  for (const Level& level : kLevels) {
+    bool all = true;
+    for (const char* c : level.commands) all = all && vkGetDeviceProcAddr(device, c) != nullptr;
+    if (!all) break;
+    version = level.version;
+  }
+  VkPhysicalDeviceProperties props{};
+  vkGetPhysicalDeviceProperties(physicalDevice, &props);
+  return std::min(version, VK_MAKE_API_VERSION(0, VK_API_VERSION_MAJOR(props.apiVersion),
+                                               VK_API_VERSION_MINOR(props.apiVersion), 0));
 }
 
 SwapchainFacts AppSwapchain::facts() const {
@@ -116,18 +125,36 @@ std::string SessionStats::summary() const {
   return os.str();
 }
 
-Session::Session(std::shared_ptr<InstanceState> instance, XrSession handle,
+Session::Session(std::shared_ptr<InstanceState> instance, XrSession handle, XrSystemId system,
                  std::optional<XrGraphicsBindingVulkanKHR> vulkan)
     : instance_(std::move(instance)),
       handle_(handle),
       dumper_(instance_->config.dumpDir, instance_->config.dumpFrames) {
   Logger& log = *instance_->log;
+  if (next().getSystemProperties != nullptr) {
+    auto props = makeXr<XrSystemProperties>(XR_TYPE_SYSTEM_PROPERTIES);
+    if (XR_SUCCEEDED(next().getSystemProperties(instance_->handle, system, &props)))
+      maxLayerCount_ = std::clamp(props.graphicsProperties.maxLayerCount, kMinLayerLimit, kMaxLayerLimit);
+  }
   if (!vulkan) {
     log.log(LogLevel::Info, "session is not a Vulkan session: passing everything through");
     return;
   }
   vulkanSession_ = true;
-  binding_ = *vulkan;
+  try {
+    setUp(*vulkan);
+  } catch (const std::exception& e) {
+    // The session still exists for the app: it must stay registered and pass frames through.
+    log.log(LogLevel::Error, std::string("session set-up failed (") + e.what() + "): passing frames through");
+    filtering_ = false;
+  } catch (...) {
+    log.log(LogLevel::Error, "session set-up failed: passing frames through");
+    filtering_ = false;
+  }
+}
+
+void Session::setUp(const XrGraphicsBindingVulkanKHR& vulkan) {
+  binding_ = vulkan;
   binding_.next = nullptr;
   filtering_ = initFilter();
   if (!filtering_) return;
@@ -166,7 +193,13 @@ bool Session::initFilter() {
   h.device = binding_.device;
   h.queueFamilyIndex = binding_.queueFamilyIndex;
   h.queueIndex = binding_.queueIndex;
-  h.apiVersion = instance_->vulkanApiVersion;
+  h.apiVersion = instance_->vulkanApiVersion.value_or(0);
+  if (!instance_->vulkanApiVersion) {  // XR_KHR_vulkan_enable (v1)
+    h.apiVersion = deviceApiVersion(binding_.physicalDevice, binding_.device);
+    log.log(LogLevel::Info, "XR_KHR_vulkan_enable: the app's Vulkan device runs at " +
+                                std::to_string(VK_API_VERSION_MAJOR(h.apiVersion)) + "." +
+                                std::to_string(VK_API_VERSION_MINOR(h.apiVersion)));
+  }
   std::string error;
   vk_ = core::VulkanContext::borrow(h, &error);
   if (!vk_) {
@@ -209,16 +242,29 @@ bool Session::initFilter() {
 }
 
 void Session::shutdown() {
+  std::map<XrSwapchain, AppSwapchain> doomed;
+  XrSpace space = XR_NULL_HANDLE;
+  std::string summary;
+  {
+    std::scoped_lock lock(frameMutex_, mutex_);
+    if (shutDown_) return;
+    shutDown_ = true;
+    filtering_ = false;
+    if (filter_) filter_->waitIdle();
+    filter_.reset();  // its views of the app's and the output images go before the images
+    vk_.reset();
+    doomed.swap(swapchains_);
+    space = std::exchange(viewSpace_, XR_NULL_HANDLE);
+    if (vulkanSession_) summary = stats_.summary();
+  }
+  doomed.clear();  // the layer's output swapchains: destroyed through the runtime, unlocked
+  if (space != XR_NULL_HANDLE) next().destroySpace(space);
+  if (!summary.empty()) instance_->log->log(LogLevel::Info, summary);
+}
+
+SessionStats Session::stats() {
   std::lock_guard lock(mutex_);
-  if (shutDown_) return;
-  shutDown_ = true;
-  if (filter_) filter_->waitIdle();
-  swapchains_.clear();  // destroys the layer's output swapchains
-  if (viewSpace_ != XR_NULL_HANDLE) next().destroySpace(viewSpace_);
-  viewSpace_ = XR_NULL_HANDLE;
-  filter_.reset();
-  vk_.reset();
-  if (vulkanSession_) instance_->log->log(LogLevel::Info, stats_.summary());
+  return stats_;
 }
 
 std::string Session::xrError(const char* what, XrResult r) const {
@@ -229,23 +275,32 @@ std::string Session::xrError(const char* what, XrResult r) const {
   return std::string(what) + " failed: " + buf;
 }
 
+bool Session::deviceSupports(const XrSwapchainCreateInfo& info, XrSwapchainUsageFlags usage) const {
+  if (!vk_) return true;  // nothing to ask: let the runtime decide
+  VkImageFormatProperties props{};
+  const VkImageCreateFlags flags =
+      (usage & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) ? VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT : 0;
+  const VkResult r = vkGetPhysicalDeviceImageFormatProperties(
+      vk_->physicalDevice(), static_cast<VkFormat>(info.format), VK_IMAGE_TYPE_2D, VK_IMAGE_TILING_OPTIMAL,
+      vulkanUsage(usage), flags, &props);
+  return r == VK_SUCCESS && info.arraySize <= props.maxArrayLayers && info.width <= props.maxExtent.width &&
+         info.height <= props.maxExtent.height;
+}
+
 XrResult Session::createSwapchain(const XrSwapchainCreateInfo* info, XrSwapchain* swapchain) {
-  if (!filtering_ || info == nullptr) return next().createSwapchain(handle_, info, swapchain);
-  if (!isReadableSwapchain(*info)) {
-    const XrResult r = next().createSwapchain(handle_, info, swapchain);
-    if (XR_SUCCEEDED(r)) {
-      std::lock_guard lock(mutex_);
-      AppSwapchain& s = swapchains_[*swapchain];
-      s.info = *info;
-      s.info.next = nullptr;
-      s.info.format = 0;  // makes checkProjection pass its frames through (unsupported format)
-    }
-    return r;
-  }
+  if (!filtering_ || info == nullptr || swapchain == nullptr)
+    return next().createSwapchain(handle_, info, swapchain);
+  // SAMPLED is added only where the device can sample the image as the app asked for it.
+  // Where it cannot (the app's own usage, format or size is unsupported), the request goes to
+  // the runtime exactly as the app made it, once, and the runtime's answer is the app's.
+  const XrSwapchainUsageFlags wanted = appSwapchainUsage(info->usageFlags);
+  const bool addSampled =
+      isReadableSwapchain(*info) && wanted != info->usageFlags && deviceSupports(*info, wanted);
   XrSwapchainCreateInfo ours = *info;
-  ours.usageFlags = appSwapchainUsage(info->usageFlags);
+  if (addSampled) ours.usageFlags = wanted;
   XrResult r = next().createSwapchain(handle_, &ours, swapchain);
-  if (XR_FAILED(r) && ours.usageFlags != info->usageFlags) {
+  if (r == XR_ERROR_FEATURE_UNSUPPORTED && addSampled) {
+    // The device can sample it, the runtime still refuses the added bit (its own limits).
     instance_->log->once(LogLevel::Warn, "sampled-usage",
                          "the runtime refused SAMPLED usage on an app swapchain: its frames pass through");
     ours = *info;
@@ -256,7 +311,7 @@ XrResult Session::createSwapchain(const XrSwapchainCreateInfo* info, XrSwapchain
     AppSwapchain& s = swapchains_[*swapchain];
     s.info = ours;
     s.info.next = nullptr;
-    if (ours.usageFlags == info->usageFlags && !(info->usageFlags & XR_SWAPCHAIN_USAGE_SAMPLED_BIT)) {
+    if (!isReadableSwapchain(*info) || !(ours.usageFlags & XR_SWAPCHAIN_USAGE_SAMPLED_BIT)) {
       s.info.format = 0;  // not readable by the filter: makes checkProjection pass it through
     }
   }
@@ -264,8 +319,9 @@ XrResult Session::createSwapchain(const XrSwapchainCreateInfo* info, XrSwapchain
 }
 
 XrResult Session::destroySwapchain(XrSwapchain swapchain) {
+  std::optional<AppSwapchain> doomed;
   {
-    std::lock_guard lock(mutex_);
+    std::scoped_lock lock(frameMutex_, mutex_);  // no filter work may read its images after this
     if (auto it = swapchains_.find(swapchain); it != swapchains_.end()) {
       if (filter_) {
         filter_->waitIdle();  // in-flight filter work may still read these images
@@ -274,9 +330,11 @@ XrResult Session::destroySwapchain(XrSwapchain swapchain) {
           for (VkImage img : it->second.output->images()) filter_->forgetImage(img);
         }
       }
+      doomed = std::move(it->second);
       swapchains_.erase(it);
     }
   }
+  doomed.reset();  // the layer's output swapchain goes through the runtime, unlocked
   return next().destroySwapchain(swapchain);
 }
 
@@ -285,11 +343,12 @@ XrResult Session::enumerateImages(XrSwapchain swapchain, uint32_t capacity, uint
   const XrResult r = next().enumerateSwapchainImages(swapchain, capacity, count, images);
   if (XR_SUCCEEDED(r) && filtering_ && images != nullptr && capacity > 0 && count != nullptr &&
       images->type == XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR) {
+    const uint32_t n = std::min(*count, capacity);
     std::lock_guard lock(mutex_);
     if (auto it = swapchains_.find(swapchain); it != swapchains_.end()) {
       const auto* vkImages = reinterpret_cast<const XrSwapchainImageVulkanKHR*>(images);
-      it->second.images.assign(*count, VK_NULL_HANDLE);
-      for (uint32_t i = 0; i < *count; ++i) it->second.images[i] = vkImages[i].image;
+      it->second.images.assign(n, VK_NULL_HANDLE);
+      for (uint32_t i = 0; i < n; ++i) it->second.images[i] = vkImages[i].image;
     }
   }
   return r;
@@ -316,15 +375,15 @@ XrResult Session::release(XrSwapchain swapchain, const XrSwapchainImageReleaseIn
   return r;
 }
 
-void Session::countUnfiltered(const XrFrameEndInfo& info) {
+void Session::countUnfiltered(const FrameScan& scan) {
   std::lock_guard lock(mutex_);
-  for (uint32_t i = 0; i < info.layerCount; ++i) {
-    if (info.layers[i] != nullptr && info.layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
-      ++stats_.passed[static_cast<size_t>(failedReason_)];
-      return;
-    }
+  if (!scan.ok()) {
+    ++stats_.passed[static_cast<size_t>(PassReason::InvalidFrame)];
+  } else if (scan.projection) {
+    ++stats_.passed[static_cast<size_t>(failedReason_)];
+  } else {
+    ++stats_.framesEmpty;
   }
-  ++stats_.framesEmpty;
 }
 
 void Session::passed(PassReason reason, const std::string& detail) {
@@ -332,326 +391,6 @@ void Session::passed(PassReason reason, const std::string& detail) {
   if (reason == PassReason::Compiling) return;  // expected for the first frames: logged once at info
   instance_->log->once(LogLevel::Warn, "pass-" + std::string(toString(reason)),
                        "passing frames through (" + std::string(toString(reason)) + "): " + detail);
-}
-
-OwnedSwapchain* Session::ensureOutput(AppSwapchain& app) {
-  if (app.output) return app.output.get();
-  const XrSwapchainCreateInfo info = outputSwapchainInfo(app.info, mutableFormat_);
-  XrSwapchain handle = XR_NULL_HANDLE;
-  XrResult r = next().createSwapchain(handle_, &info, &handle);
-  if (XR_FAILED(r)) {
-    instance_->log->once(LogLevel::Warn, "output-create", xrError("xrCreateSwapchain (layer output)", r));
-    return nullptr;
-  }
-  uint32_t n = 0;
-  r = next().enumerateSwapchainImages(handle, 0, &n, nullptr);
-  std::vector<XrSwapchainImageVulkanKHR> imgs(
-      n, makeXr<XrSwapchainImageVulkanKHR>(XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR));
-  if (XR_SUCCEEDED(r)) {
-    r = next().enumerateSwapchainImages(handle, n, &n,
-                                        reinterpret_cast<XrSwapchainImageBaseHeader*>(imgs.data()));
-  }
-  if (XR_FAILED(r) || n == 0) {
-    next().destroySwapchain(handle);
-    instance_->log->once(LogLevel::Warn, "output-enum",
-                         xrError("xrEnumerateSwapchainImages (layer output)", r));
-    return nullptr;
-  }
-  std::vector<VkImage> images;
-  for (const auto& i : imgs) images.push_back(i.image);
-  app.output = std::make_unique<OwnedSwapchain>(next(), handle, info, std::move(images));
-  return app.output.get();
-}
-
-float Session::headSpeed(const XrCompositionLayerProjection& layer, int64_t displayTime) {
-  if (imu_) {
-    // XrTime -> CLOCK_MONOTONIC (the IMU source's host time domain) through
-    // XR_KHR_convert_timespec_time, which the layer enables when pose_source = imu.
-    std::optional<int64_t> hostNs;
-    timespec ts{};
-    if (next().convertTimeToTimespec != nullptr &&
-        XR_SUCCEEDED(next().convertTimeToTimespec(instance_->handle, displayTime, &ts))) {
-      hostNs = int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-    }
-    if (const std::optional<imu::HeadState> s = hostNs ? imu_->stateAt(*hostNs) : std::nullopt) {
-      ++stats_.imuFrames;
-      return s->headSpeedDegPerSec;
-    }
-    ++stats_.imuFallbackFrames;
-    instance_->log->once(LogLevel::Warn, "imu-no-data",
-                         "pose_source = imu: no IMU state at the display time; using the runtime's poses");
-  }
-  // The runtime's VIEW space velocity when it reports one, else the change of the submitted
-  // head orientation over the change of display time; smoothed either way.
-  std::optional<float> raw;
-  if (viewSpace_ != XR_NULL_HANDLE) {
-    auto vel = makeXr<XrSpaceVelocity>(XR_TYPE_SPACE_VELOCITY);
-    auto loc = makeXr<XrSpaceLocation>(XR_TYPE_SPACE_LOCATION, &vel);
-    if (XR_SUCCEEDED(next().locateSpace(viewSpace_, layer.space, displayTime, &loc)) &&
-        (vel.velocityFlags & XR_SPACE_VELOCITY_ANGULAR_VALID_BIT)) {
-      const XrVector3f& w = vel.angularVelocity;
-      raw = std::sqrt(w.x * w.x + w.y * w.y + w.z * w.z) * 57.29578f;
-    }
-  }
-  const XrQuaternionf q = layer.views[0].pose.orientation;
-  const double dt = (displayTime - lastDisplayTime_) * 1e-9;
-  if (!raw && lastOrientation_ && layer.space == lastSpace_ && dt > 1e-4 && dt < 0.5) {
-    const glm::quat a(lastOrientation_->w, lastOrientation_->x, lastOrientation_->y, lastOrientation_->z);
-    const glm::quat b(q.w, q.x, q.y, q.z);
-    raw = static_cast<float>(core::angleBetweenDeg(a, b) / dt);
-  }
-  if (raw && std::isfinite(*raw)) {
-    const float k = static_cast<float>(1.0 - std::exp(-std::clamp(dt, 0.0, 0.5) / 0.05));  // ~50 ms
-    smoothedSpeed_ = lastOrientation_ ? smoothedSpeed_ + k * (*raw - smoothedSpeed_) : *raw;
-  }
-  lastOrientation_ = q;
-  lastDisplayTime_ = displayTime;
-  lastSpace_ = layer.space;
-  return smoothedSpeed_;
-}
-
-std::optional<PassReason> Session::filterProjection(const XrCompositionLayerProjection& layer,
-                                                    int64_t displayTime,
-                                                    const std::vector<ViewUnjitter>& unjitter,
-                                                    std::vector<XrSwapchain>* outputs) {
-  Logger& log = *instance_->log;
-  const auto lookup = [this](XrSwapchain s) -> std::optional<SwapchainFacts> {
-    auto it = swapchains_.find(s);
-    if (it == swapchains_.end()) return std::nullopt;
-    return it->second.facts();
-  };
-  if (auto reason = checkProjection(layer, lookup)) return reason;
-
-  // One output swapchain per distinct app swapchain, acquired once this frame.
-  struct Acquired {
-    OwnedSwapchain* out;
-    uint32_t index;
-  };
-  std::map<XrSwapchain, Acquired> acquired;
-  core::StereoFrame frame;
-  core::StereoOutput output;
-  frame.viewCount = layer.viewCount;
-  frame.displayTimeNs = displayTime;
-  std::optional<PassReason> failure;
-  for (uint32_t v = 0; v < layer.viewCount && !failure; ++v) {
-    const XrCompositionLayerProjectionView& view = layer.views[v];
-    AppSwapchain& app = swapchains_.at(view.subImage.swapchain);
-    auto it = acquired.find(view.subImage.swapchain);
-    if (it == acquired.end()) {
-      OwnedSwapchain* out = ensureOutput(app);
-      if (!out) {
-        failure = PassReason::OutputSwapchain;
-        break;
-      }
-      uint32_t index = 0;
-      XrResult r = next().acquireSwapchainImage(out->handle(), nullptr, &index);
-      if (XR_FAILED(r)) {
-        log.once(LogLevel::Warn, "acquire", xrError("xrAcquireSwapchainImage (layer output)", r));
-        failure = PassReason::XrError;
-        break;
-      }
-      auto wi = makeXr<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
-      wi.timeout = kOutputWaitNs;
-      r = next().waitSwapchainImage(out->handle(), &wi);
-      if (r != XR_SUCCESS) {
-        // An image that was not waited for cannot be released: stop filtering this session.
-        log.log(LogLevel::Error, xrError("xrWaitSwapchainImage (layer output)", r) + "; filtering stops");
-        filtering_ = false;
-        failedReason_ = PassReason::XrError;
-        failure = PassReason::XrError;
-        break;
-      }
-      it = acquired.emplace(view.subImage.swapchain, Acquired{out, index}).first;
-    }
-    const Acquired& acq = it->second;
-    const XrSwapchainCreateInfo& ai = app.info;
-    core::ViewFrame& vf = frame.views[v];
-    vf.color.image = app.images[*app.released];
-    vf.color.format = static_cast<VkFormat>(ai.format);
-    vf.color.extent = {ai.width, ai.height};
-    vf.color.arrayLayer = view.subImage.imageArrayIndex;
-    vf.color.arrayLayerCount = ai.arraySize;
-    vf.color.rect = toRect(view.subImage.imageRect);
-    vf.color.usage = vulkanUsage(ai.usageFlags);
-    vf.color.mutableFormat = (ai.usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) != 0;
-    vf.color.layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;  // the Vulkan binding's layout at release
-    vf.pose = toPose(view.pose);
-    if (v < unjitter.size() && unjitter[v].matched) {
-      vf.fov = toFov(unjitter[v].fov);
-      vf.jitterPx = {unjitter[v].jitterPx[0], unjitter[v].jitterPx[1]};
-    } else {
-      vf.fov = toFov(view.fov);
-    }
-    if (const XrCompositionLayerDepthInfoKHR* d = findDepthInfo(view)) {
-      auto ds = swapchains_.find(d->subImage.swapchain);
-      if (ds != swapchains_.end() && ds->second.facts().hasReleasedImage &&
-          isDepthFormat(ds->second.info.format) &&
-          (ds->second.info.usageFlags & XR_SWAPCHAIN_USAGE_SAMPLED_BIT)) {
-        const XrSwapchainCreateInfo& di = ds->second.info;
-        core::DepthRef depth;
-        depth.image.image = ds->second.images[*ds->second.released];
-        depth.image.format = static_cast<VkFormat>(di.format);
-        depth.image.extent = {di.width, di.height};
-        depth.image.arrayLayer = d->subImage.imageArrayIndex;
-        depth.image.arrayLayerCount = di.arraySize;
-        depth.image.rect = toRect(d->subImage.imageRect);
-        depth.image.usage = vulkanUsage(di.usageFlags);
-        depth.image.layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-        depth.minDepth = d->minDepth;
-        depth.maxDepth = d->maxDepth;
-        depth.nearZ = d->nearZ;
-        depth.farZ = d->farZ;
-        vf.depth = depth;
-      }
-    }
-    core::ImageRef& o = output.views[v];
-    const XrSwapchainCreateInfo& oi = acq.out->info();
-    o.image = acq.out->images()[acq.index];
-    o.format = static_cast<VkFormat>(oi.format);
-    o.extent = {oi.width, oi.height};
-    o.arrayLayer = view.subImage.imageArrayIndex;
-    o.arrayLayerCount = oi.arraySize;
-    o.rect = vf.color.rect;
-    o.usage = vulkanUsage(oi.usageFlags);
-    o.mutableFormat = (oi.usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) != 0;
-    o.layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;  // after xrWaitSwapchainImage
-    outputs->push_back(acq.out->handle());
-  }
-
-  if (!failure) {
-    frame.headSpeedDegPerSec = headSpeed(layer, displayTime);
-    if (log.enabled(LogLevel::Debug) && stats_.framesFiltered < 10) {
-      const XrPosef& p = layer.views[0].pose;
-      const XrFovf& f = layer.views[0].fov;
-      char buf[256];
-      std::snprintf(
-          buf, sizeof buf,
-          "frame %llu t=%lld view0 q=(%.6f %.6f %.6f %.6f) p=(%.4f %.4f %.4f) fov=(%.4f %.4f %.4f %.4f) "
-          "speed=%.3f deg/s",
-          static_cast<unsigned long long>(stats_.framesFiltered), static_cast<long long>(displayTime),
-          p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z, p.position.x, p.position.y,
-          p.position.z, f.angleLeft, f.angleRight, f.angleUp, f.angleDown, frame.headSpeedDegPerSec);
-      log.log(LogLevel::Debug, buf);
-    }
-    std::string error;
-    if (!filter_->submit(frame, output, &error)) {
-      if (filter_->compiling()) {
-        log.once(LogLevel::Info, "filter-compiling",
-                 "the filter's pipelines are compiling in the background; frames pass through until then");
-        failure = PassReason::Compiling;
-      } else {
-        log.once(LogLevel::Warn, "filter-submit", "filter: " + error);
-        failure = PassReason::FilterError;
-      }
-    } else if (dumper_.wants()) {
-      dumper_.dump(*vk_, frame, output, log);
-    }
-  }
-  // Release every output image acquired this frame, filtered or not (the layer waits only on
-  // its own work; the runtime orders its reads after this queue's submissions).
-  for (const auto& [app, acq] : acquired) {
-    const XrResult r = next().releaseSwapchainImage(acq.out->handle(), nullptr);
-    if (XR_FAILED(r)) {
-      log.once(LogLevel::Warn, "release", xrError("xrReleaseSwapchainImage (layer output)", r));
-      failure = PassReason::XrError;
-    }
-  }
-  if (!failure) {
-    if (auto t = filter_->lastTimings(); t && t->frameIndex != stats_.lastTimingIndex) {
-      stats_.lastTimingIndex = t->frameIndex;
-      ++stats_.timingFrames;
-      stats_.temporalMs += t->temporalMs;
-      stats_.stereoMs += t->stereoMs;
-      stats_.otherMs += t->otherMs;
-      stats_.totalMs += t->totalMs;
-    }
-  }
-  return failure;
-}
-
-XrResult Session::locateViews(const XrViewLocateInfo* info, XrViewState* state, uint32_t capacity,
-                              uint32_t* count, XrView* views) {
-  const XrResult r = next().locateViews(handle_, info, state, capacity, count, views);
-  if (XR_FAILED(r) || !jitter_ || !filtering_ || info == nullptr || views == nullptr || count == nullptr ||
-      *count == 0 || *count > JitterTracker::kMaxViews || capacity < *count) {
-    return r;
-  }
-  std::lock_guard lock(mutex_);
-  if (viewSize_[0].width == 0 || shutDown_) return r;  // sizes known after the first filtered frame
-  std::array<XrFovf, JitterTracker::kMaxViews> fovs{};
-  std::array<VkExtent2D, JitterTracker::kMaxViews> sizes{};
-  for (uint32_t i = 0; i < *count; ++i) {
-    fovs[i] = views[i].fov;
-    sizes[i] = viewSize_[i].width ? viewSize_[i] : viewSize_[0];
-  }
-  stats_.jitterApplied += jitterTracker_.apply(fovs.data(), sizes.data(), *count);
-  for (uint32_t i = 0; i < *count; ++i) views[i].fov = fovs[i];
-  return r;
-}
-
-XrResult Session::endFrame(const XrFrameEndInfo* info) {
-  if (info == nullptr || !filtering_) {
-    if (info != nullptr && vulkanSession_) countUnfiltered(*info);
-    return next().endFrame(handle_, info);
-  }
-  std::unique_lock lock(mutex_);
-  if (!filtering_ || shutDown_) {
-    lock.unlock();
-    return next().endFrame(handle_, info);
-  }
-  FrameRewrite rewrite(*info);
-  bool sawProjection = false;
-  std::optional<PassReason> reason;
-  for (uint32_t i = 0; i < info->layerCount; ++i) {
-    const XrCompositionLayerBaseHeader* l = info->layers[i];
-    if (l == nullptr || l->type != XR_TYPE_COMPOSITION_LAYER_PROJECTION) continue;  // other types: as is
-    if (sawProjection) continue;  // one filter history: only the first projection layer is filtered
-    sawProjection = true;
-    const auto& proj = *reinterpret_cast<const XrCompositionLayerProjection*>(l);
-    // Views rendered with the layer's jitter are filtered onto, and submitted with, the
-    // unjittered fov; any other fov (the app's own) is used as is with no jitter.
-    std::vector<ViewUnjitter> unjitter;
-    uint32_t matched = 0;
-    if (jitter_ && proj.views != nullptr && proj.viewCount <= JitterTracker::kMaxViews) {
-      for (uint32_t v = 0; v < proj.viewCount; ++v) {
-        const XrRect2Di& rect = proj.views[v].subImage.imageRect;
-        const VkExtent2D size{static_cast<uint32_t>(std::max(rect.extent.width, 0)),
-                              static_cast<uint32_t>(std::max(rect.extent.height, 0))};
-        unjitter.push_back(jitterTracker_.find(v, proj.views[v].fov, size));
-        matched += unjitter.back().matched ? 1 : 0;
-      }
-    }
-    std::vector<XrSwapchain> outputs;
-    reason = filterProjection(proj, info->displayTime, unjitter, &outputs);
-    if (!reason) {
-      std::vector<XrFovf> fovs;
-      for (const ViewUnjitter& u : unjitter) fovs.push_back(u.fov);
-      rewrite.replaceProjection(i, outputs, matched > 0 ? &fovs : nullptr);
-      stats_.jitterUndone += matched;
-      for (uint32_t v = 0; v < unjitter.size(); ++v) {
-        if (!unjitter[v].matched) continue;
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "jitter: undone on submit (first: view %u, %.4f, %.4f px)", v,
-                      unjitter[v].jitterPx[0], unjitter[v].jitterPx[1]);
-        instance_->log->once(LogLevel::Info, "jitter-undone", buf);
-        break;
-      }
-      stats_.jitterUnmatched += unjitter.size() - matched;
-      for (uint32_t v = 0; v < proj.viewCount && v < 2; ++v) {
-        viewSize_[v] = {static_cast<uint32_t>(proj.views[v].subImage.imageRect.extent.width),
-                        static_cast<uint32_t>(proj.views[v].subImage.imageRect.extent.height)};
-      }
-      ++stats_.framesFiltered;
-      for (uint32_t v = 0; v < proj.viewCount; ++v) ++stats_.viewsFiltered[v];
-    }
-  }
-  if (!sawProjection) {
-    ++stats_.framesEmpty;
-  } else if (reason) {
-    passed(*reason, "projection layer left as the app submitted it");
-  }
-  lock.unlock();
-  return next().endFrame(handle_, rewrite.replacedCount() > 0 ? &rewrite.info() : info);
 }
 
 }  // namespace steadyxr::layer

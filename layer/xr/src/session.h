@@ -43,10 +43,20 @@ struct Dispatch {
   PFN_xrDestroySpace destroySpace = nullptr;
   PFN_xrLocateSpace locateSpace = nullptr;
   PFN_xrResultToString resultToString = nullptr;
+  PFN_xrGetSystemProperties getSystemProperties = nullptr;             // maxLayerCount (optional)
   PFN_xrCreateVulkanInstanceKHR createVulkanInstanceKHR = nullptr;     // XR_KHR_vulkan_enable2 only
   PFN_xrConvertTimeToTimespecTimeKHR convertTimeToTimespec = nullptr;  // XR_KHR_convert_timespec_time
 };
 bool loadDispatch(XrInstance instance, PFN_xrGetInstanceProcAddr gipa, Dispatch* out);
+
+// The effective Vulkan version of an app's device, major.minor (XR_KHR_vulkan_enable, v1: the
+// app created its VkInstance itself, so the layer never saw its VkApplicationInfo::apiVersion;
+// Proton/DXVK ask for 1.3). The driver resolves a core device command through
+// vkGetDeviceProcAddr only when the device's effective version (the lower of the instance's
+// requested apiVersion and the physical device's) has it (Vulkan spec, vkGetDeviceProcAddr);
+// probing three commands per version, from three different extensions, keeps an app's enabled
+// extension from passing for the version.
+uint32_t deviceApiVersion(VkPhysicalDevice physicalDevice, VkDevice device);
 
 struct InstanceState {
   XrInstance handle = XR_NULL_HANDLE;
@@ -54,7 +64,9 @@ struct InstanceState {
   Config config;
   std::unique_ptr<Logger> log;
   std::string applicationName;
-  uint32_t vulkanApiVersion = VK_API_VERSION_1_0;  // from xrCreateVulkanInstanceKHR when seen
+  // From xrCreateVulkanInstanceKHR (XR_KHR_vulkan_enable2); unset on the v1 path, where the
+  // session reads the device's effective version itself (deviceApiVersion).
+  std::optional<uint32_t> vulkanApiVersion;
 };
 
 // A swapchain the layer owns (its output images). Destroys itself through the next layer.
@@ -71,6 +83,9 @@ class OwnedSwapchain {
   XrSwapchain handle() const { return handle_; }
   const XrSwapchainCreateInfo& info() const { return info_; }
   const std::vector<VkImage>& images() const { return images_; }
+  // An image acquired whose wait has not succeeded yet (a timeout): waited for again on the
+  // next frame instead of acquiring another (the spec allows one wait per acquire, in order).
+  std::optional<uint32_t> unwaited;
 
  private:
   const Dispatch* next_;
@@ -105,9 +120,15 @@ struct SessionStats {
   std::string summary() const;
 };
 
+// Threads: an app may call xrLocateViews, swapchain functions and xrEndFrame from different
+// threads. `mutex_` guards the layer's bookkeeping and is never held across a call into the
+// runtime; `frameMutex_` serialises the layer's own frame work (the filter, its output
+// swapchains, the dump), which only xrEndFrame, xrDestroySwapchain and shutdown take
+// (in that order before mutex_).
 class Session {
  public:
-  Session(std::shared_ptr<InstanceState> instance, XrSession handle,
+  // Never throws: anything that fails during set-up leaves a pass-through session.
+  Session(std::shared_ptr<InstanceState> instance, XrSession handle, XrSystemId system,
           std::optional<XrGraphicsBindingVulkanKHR> vulkan);
   ~Session();
   Session(const Session&) = delete;
@@ -116,6 +137,7 @@ class Session {
   const Dispatch& next() const { return instance_->next; }
   XrSession handle() const { return handle_; }
   bool filtering() const { return filtering_; }
+  SessionStats stats();
 
   XrResult createSwapchain(const XrSwapchainCreateInfo* info, XrSwapchain* swapchain);
   XrResult destroySwapchain(XrSwapchain swapchain);
@@ -130,15 +152,19 @@ class Session {
   void shutdown();
 
  private:
+  void setUp(const XrGraphicsBindingVulkanKHR& vulkan);
   bool initFilter();
+  bool deviceSupports(const XrSwapchainCreateInfo& info, XrSwapchainUsageFlags usage) const;
   void openImu();
   OwnedSwapchain* ensureOutput(AppSwapchain& app);
+  void ensureImages(const XrCompositionLayerProjection& layer);
+  std::optional<PassReason> acquireOutput(OwnedSwapchain& out, uint32_t* index);
   std::optional<PassReason> filterProjection(const XrCompositionLayerProjection& layer, int64_t displayTime,
                                              const std::vector<ViewUnjitter>& unjitter,
                                              std::vector<XrSwapchain>* outputs);
   float headSpeed(const XrCompositionLayerProjection& layer, int64_t displayTime);
   void passed(PassReason reason, const std::string& detail);
-  void countUnfiltered(const XrFrameEndInfo& info);
+  void countUnfiltered(const FrameScan& scan);
   std::string xrError(const char* what, XrResult r) const;
 
   std::shared_ptr<InstanceState> instance_;
@@ -148,7 +174,9 @@ class Session {
   PassReason failedReason_ = PassReason::FilterError;  // why filtering_ is off in a Vulkan session
   bool shutDown_ = false;
   XrGraphicsBindingVulkanKHR binding_{};
+  std::mutex frameMutex_;
   std::mutex mutex_;
+  uint32_t maxLayerCount_ = kMinLayerLimit;
   std::unique_ptr<core::VulkanContext> vk_;
   std::unique_ptr<core::Filter> filter_;  // declared after vk_: destroyed first
   std::map<XrSwapchain, AppSwapchain> swapchains_;
@@ -166,6 +194,7 @@ class Session {
   bool jitter_ = false;
   JitterTracker jitterTracker_;
   std::array<VkExtent2D, 2> viewSize_{};  // pixel size of each view's last filtered rect
+  uint32_t debugFrames_ = 0;              // frames logged at debug level
 };
 
 }  // namespace steadyxr::layer

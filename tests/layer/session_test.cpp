@@ -1,0 +1,353 @@
+// A Session on real Vulkan (lavapipe) behind a fault-injecting next layer (fake_runtime.h): the
+// smaller faults of issue 15, each on the path the layer really takes.
+#include "fake_runtime.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <sstream>
+#include <thread>
+
+#include <unistd.h>
+
+namespace steadyxr::layer {
+namespace {
+
+using test::FakeRuntime;
+namespace fs = std::filesystem;
+
+core::VulkanContext* gVk = nullptr;
+
+std::string readFile(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+size_t countOf(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// An "app": one session, one side-by-side colour swapchain, frames submitted as a real app does.
+class App {
+ public:
+  explicit App(FakeRuntime& fake, Config cfg = {}, bool enumerate = true,
+               VkFormat format = VK_FORMAT_R8G8B8A8_UNORM)
+      : fake_(fake),
+        dir_(fs::temp_directory_path() / ("steadyxr-session-test-" + std::to_string(::getpid()))) {
+    fs::create_directories(dir_);
+    cfg.logFile = (dir_ / "layer.log").string();
+    if (cfg.method == "default") cfg.method = "none";  // one small pipeline: compiles fast
+    instance_ = std::make_shared<InstanceState>();
+    instance_->handle = reinterpret_cast<XrInstance>(uintptr_t{0x11});
+    instance_->next = fake.dispatch();
+    instance_->config = cfg;
+    instance_->log = std::make_unique<Logger>(LogLevel::Info, cfg.logFile);
+    instance_->vulkanApiVersion = VK_API_VERSION_1_1;
+    auto binding = makeXr<XrGraphicsBindingVulkanKHR>(XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR);
+    binding.instance = gVk->instance();
+    binding.physicalDevice = gVk->physicalDevice();
+    binding.device = gVk->device();
+    binding.queueFamilyIndex = gVk->queueFamilyIndex();
+    session_ = std::make_unique<Session>(instance_, reinterpret_cast<XrSession>(uintptr_t{0x22}), 1, binding);
+    auto ci = makeXr<XrSwapchainCreateInfo>(XR_TYPE_SWAPCHAIN_CREATE_INFO);
+    ci.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT;
+    ci.format = format;
+    ci.sampleCount = 1;
+    ci.width = 64;
+    ci.height = 32;
+    ci.faceCount = 1;
+    ci.arraySize = 1;
+    ci.mipCount = 1;
+    EXPECT_EQ(session_->createSwapchain(&ci, &swapchain_), XR_SUCCESS);
+    {
+      std::lock_guard lock(fake.mutex);
+      fake.appSwapchains.push_back(swapchain_);
+    }
+    if (enumerate) {
+      uint32_t n = 0;
+      session_->enumerateImages(swapchain_, 0, &n, nullptr);
+      std::vector<XrSwapchainImageVulkanKHR> imgs(
+          n, makeXr<XrSwapchainImageVulkanKHR>(XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR));
+      session_->enumerateImages(swapchain_, n, &n,
+                                reinterpret_cast<XrSwapchainImageBaseHeader*>(imgs.data()));
+    }
+  }
+  ~App() {
+    session_.reset();
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+  // Renders (acquire, wait, release) and submits one frame; returns xrEndFrame's result.
+  XrResult frame() {
+    uint32_t index = 0;
+    EXPECT_EQ(session_->acquire(swapchain_, nullptr, &index), XR_SUCCESS);
+    auto wi = makeXr<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
+    EXPECT_EQ(session_->next().waitSwapchainImage(swapchain_, &wi), XR_SUCCESS);
+    EXPECT_EQ(session_->release(swapchain_, nullptr), XR_SUCCESS);
+    for (uint32_t v = 0; v < 2; ++v) {
+      views_[v] = makeXr<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW);
+      views_[v].pose.orientation.w = 1.0f;
+      views_[v].fov = {-0.7f, 0.7f, 0.7f, -0.7f};
+      views_[v].subImage.swapchain = swapchain_;
+      views_[v].subImage.imageRect = {{int32_t(32 * v), 0}, {32, 32}};
+    }
+    proj_ = makeXr<XrCompositionLayerProjection>(XR_TYPE_COMPOSITION_LAYER_PROJECTION);
+    proj_.viewCount = 2;
+    proj_.views = views_.data();
+    layers_[0] = reinterpret_cast<const XrCompositionLayerBaseHeader*>(&proj_);
+    info_ = makeXr<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
+    info_.displayTime = time_ += 11'000'000;
+    info_.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
+    info_.layerCount = 1;
+    info_.layers = layers_.data();
+    return session_->endFrame(&info_);
+  }
+  // Frames until the first is filtered (the pipelines compile in the background).
+  bool warmUp() {
+    for (int i = 0; i < 400; ++i) {
+      frame();
+      if (session_->stats().framesFiltered > 0) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    }
+    return false;
+  }
+  uint64_t passed(PassReason r) { return session_->stats().passed[static_cast<size_t>(r)]; }
+  std::string log() const { return readFile(dir_ / "layer.log"); }
+
+  FakeRuntime& fake_;
+  fs::path dir_;
+  std::shared_ptr<InstanceState> instance_;
+  std::unique_ptr<Session> session_;
+  XrSwapchain swapchain_ = XR_NULL_HANDLE;
+  std::array<XrCompositionLayerProjectionView, 2> views_{};
+  XrCompositionLayerProjection proj_{};
+  std::array<const XrCompositionLayerBaseHeader*, 1> layers_{};
+  XrFrameEndInfo info_{};
+  XrTime time_ = 1'000'000'000;
+};
+
+class SessionTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    std::string err;
+    ctx_ = core::VulkanContext::createOwned({}, &err);
+    ASSERT_TRUE(ctx_) << err;
+    gVk = ctx_.get();
+  }
+  static void TearDownTestSuite() {
+    gVk = nullptr;
+    ctx_.reset();
+  }
+  void SetUp() override { ASSERT_TRUE(ctx_); }
+  static std::unique_ptr<core::VulkanContext> ctx_;
+};
+std::unique_ptr<core::VulkanContext> SessionTest::ctx_;
+
+TEST_F(SessionTest, InvalidFramesAreForwardedUntouched) {
+  FakeRuntime fake(*gVk);
+  App app(fake);
+  ASSERT_TRUE(app.warmUp());
+  auto info = makeXr<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
+  info.layerCount = 1;  // layers = NULL: the SIGSEGV of issue 15
+  EXPECT_EQ(app.session_->endFrame(&info), XR_ERROR_VALIDATION_FAILURE);
+  EXPECT_EQ(fake.lastEndFrameInfo, &info);  // the app's own struct, not a copy
+  EXPECT_EQ(app.session_->endFrame(nullptr), XR_ERROR_VALIDATION_FAILURE);
+  EXPECT_EQ(app.passed(PassReason::InvalidFrame), 2u);
+  EXPECT_EQ(app.frame(), XR_SUCCESS);  // and filtering goes on
+  EXPECT_EQ(app.session_->stats().framesFiltered, 2u);
+}
+
+TEST_F(SessionTest, SetUpThatThrowsLeavesAPassThroughSession) {
+  FakeRuntime fake(*gVk);
+  fake.throwInCreateReferenceSpace = true;
+  std::unique_ptr<App> app;
+  ASSERT_NO_THROW(app = std::make_unique<App>(fake));
+  EXPECT_FALSE(app->session_->filtering());
+  EXPECT_EQ(app->frame(), XR_SUCCESS);
+  EXPECT_EQ(fake.lastEndFrameInfo, &app->info_);  // passed through as submitted
+  EXPECT_EQ(countOf(app->log(), "session set-up failed (injected set-up failure)"), 1u);
+}
+
+TEST_F(SessionTest, WaitTimeoutAndLossPendingDoNotStopFiltering) {
+  FakeRuntime fake(*gVk);
+  App app(fake);
+  ASSERT_TRUE(app.warmUp());
+  XrSwapchain output = XR_NULL_HANDLE;
+  for (auto& [h, c] : fake.chains)
+    if (h != app.swapchain_) output = h;
+  ASSERT_NE(output, XR_NULL_HANDLE);
+  fake.outputWaitResults = {XR_TIMEOUT_EXPIRED, XR_ERROR_RUNTIME_FAILURE, XR_SESSION_LOSS_PENDING};
+  const uint32_t acquiresBefore = fake.chains[output].acquireCalls;
+  const uint64_t filteredBefore = app.session_->stats().framesFiltered;
+  EXPECT_EQ(app.frame(), XR_SUCCESS);  // timeout: passes through
+  EXPECT_EQ(fake.lastSubmittedSwapchain, app.swapchain_);
+  EXPECT_EQ(app.frame(), XR_SUCCESS);  // an error: passes through
+  EXPECT_EQ(fake.lastSubmittedSwapchain, app.swapchain_);
+  EXPECT_EQ(app.frame(), XR_SUCCESS);  // XR_SESSION_LOSS_PENDING is a success: filtered
+  EXPECT_EQ(fake.lastSubmittedSwapchain, output);
+  // The image acquired before the timeout was waited for again, not acquired anew.
+  EXPECT_EQ(fake.chains[output].acquireCalls, acquiresBefore + 1);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(app.frame(), XR_SUCCESS);
+  EXPECT_EQ(fake.lastSubmittedSwapchain, output);
+  EXPECT_EQ(app.session_->stats().framesFiltered, filteredBefore + 4);
+  EXPECT_EQ(app.passed(PassReason::XrError), 2u);
+  EXPECT_TRUE(app.session_->filtering());
+}
+
+TEST_F(SessionTest, FramesTheRuntimeRejectsAreNotCountedAsFiltered) {
+  FakeRuntime fake(*gVk);
+  App app(fake);
+  ASSERT_TRUE(app.warmUp());
+  const uint64_t before = app.session_->stats().framesFiltered;
+  fake.endFrameResult = XR_ERROR_POSE_INVALID;
+  EXPECT_EQ(app.frame(), XR_ERROR_POSE_INVALID);  // the runtime's answer reaches the app
+  EXPECT_EQ(app.frame(), XR_ERROR_POSE_INVALID);
+  fake.endFrameResult = XR_SUCCESS;
+  EXPECT_EQ(app.frame(), XR_SUCCESS);
+  EXPECT_EQ(app.session_->stats().framesFiltered, before + 1);
+  EXPECT_EQ(app.passed(PassReason::RuntimeRejected), 2u);
+}
+
+TEST_F(SessionTest, NoLayerLockIsHeldAcrossRuntimeCallsInEndFrame) {
+  FakeRuntime fake(*gVk);
+  App app(fake);
+  ASSERT_TRUE(app.warmUp());
+  // While the runtime is inside a call made by xrEndFrame, another thread of the app renders
+  // (acquire, release) and locates views. With a lock held across the call these block.
+  int completed = 0, calls = 0;
+  std::vector<std::thread> threads;
+  auto otherThread = [&] {
+    ++calls;
+    auto done = std::make_shared<std::promise<void>>();
+    std::future<void> ready = done->get_future();
+    threads.emplace_back([&app, done] {
+      uint32_t index = 0, count = 0;
+      app.session_->acquire(app.swapchain_, nullptr, &index);
+      auto wi = makeXr<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
+      app.session_->next().waitSwapchainImage(app.swapchain_, &wi);
+      app.session_->release(app.swapchain_, nullptr);
+      app.session_->locateViews(nullptr, nullptr, 0, &count, nullptr);
+      done->set_value();
+    });
+    // Not joined here: with a lock held across this call the thread could only finish after it.
+    if (ready.wait_for(std::chrono::seconds(3)) == std::future_status::ready) ++completed;
+  };
+  fake.duringOutputWait = otherThread;
+  fake.duringEndFrame = otherThread;
+  EXPECT_EQ(app.frame(), XR_SUCCESS);
+  for (std::thread& t : threads) t.join();
+  fake.duringOutputWait = nullptr;
+  fake.duringEndFrame = nullptr;
+  EXPECT_EQ(calls, 2);
+  EXPECT_EQ(completed, calls);
+}
+
+TEST_F(SessionTest, SwapchainsTheAppNeverEnumeratedAreFiltered) {
+  FakeRuntime fake(*gVk);
+  App app(fake, {}, /*enumerate=*/false);
+  ASSERT_TRUE(app.warmUp());
+  EXPECT_EQ(app.passed(PassReason::UnknownSwapchain), 0u);
+  EXPECT_NE(fake.lastSubmittedSwapchain, app.swapchain_);
+}
+
+TEST_F(SessionTest, UncreatableDumpFolderDisablesDumpingOnce) {
+  FakeRuntime fake(*gVk);
+  const fs::path file = fs::temp_directory_path() / ("steadyxr-not-a-folder-" + std::to_string(::getpid()));
+  std::ofstream(file) << "x";
+  Config cfg;
+  cfg.dumpFrames = 3;
+  cfg.dumpDir = (file / "dump").string();  // below a regular file: cannot be created
+  App app(fake, cfg);
+  ASSERT_TRUE(app.warmUp());
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(app.frame(), XR_SUCCESS);
+  EXPECT_EQ(countOf(app.log(), "dump: cannot create folder"), 1u);
+  EXPECT_EQ(countOf(app.log(), "dump: cannot write"), 0u);          // nothing was read back or encoded
+  EXPECT_EQ(fake.lastSubmittedSwapchain == app.swapchain_, false);  // filtering goes on
+  fs::remove(file);
+}
+
+TEST_F(SessionTest, SessionsDoNotOverwriteEachOthersDumps) {
+  const fs::path dir = fs::temp_directory_path() / ("steadyxr-dump-test-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  Config cfg;
+  cfg.dumpFrames = 2;
+  cfg.dumpDir = dir.string();
+  for (int s = 0; s < 2; ++s) {
+    FakeRuntime fake(*gVk);
+    App app(fake, cfg);
+    ASSERT_TRUE(app.warmUp());
+    for (int i = 0; i < 2; ++i) app.frame();
+  }
+  size_t pngs = 0;
+  for (const auto& e : fs::directory_iterator(dir)) pngs += e.path().extension() == ".png" ? 1 : 0;
+  EXPECT_EQ(pngs, 2u * 2u * 2u * 2u);  // sessions x frames x eyes x {in, out}
+  fs::remove_all(dir);
+}
+
+TEST_F(SessionTest, SwapchainRefusedForTheAppsOwnUsageIsRequestedOnce) {
+  FakeRuntime fake(*gVk);
+  App app(fake);
+  auto ci = app.fake_.chains[app.swapchain_].info;
+  ci.usageFlags = XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;  // on a colour format: the app's own error
+  const uint32_t before = fake.createSwapchainCalls;
+  XrSwapchain s = XR_NULL_HANDLE;
+  EXPECT_EQ(app.session_->createSwapchain(&ci, &s), XR_ERROR_FEATURE_UNSUPPORTED);
+  EXPECT_EQ(fake.createSwapchainCalls, before + 1);
+  EXPECT_EQ(countOf(app.log(), "refused SAMPLED"), 0u);
+  // A runtime that refuses the added SAMPLED bit itself: retried once without it, said so.
+  fake.refusedUsage = XR_SWAPCHAIN_USAGE_SAMPLED_BIT;
+  ci.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT;
+  EXPECT_EQ(app.session_->createSwapchain(&ci, &s), XR_SUCCESS);
+  EXPECT_EQ(fake.createSwapchainCalls, before + 3);
+  EXPECT_EQ(countOf(app.log(), "refused SAMPLED"), 1u);
+}
+
+// XR_KHR_vulkan_enable (v1): the app's own instance version decides, read from its device.
+TEST_F(SessionTest, V1DeviceVersionIsTheAppsOwn) {
+  for (const uint32_t asked : {VK_API_VERSION_1_0, VK_API_VERSION_1_3}) {
+    auto app = makeVk<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
+    app.apiVersion = asked;
+    auto ici = makeVk<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
+    ici.pApplicationInfo = &app;
+    VkInstance instance = VK_NULL_HANDLE;
+    ASSERT_EQ(vkCreateInstance(&ici, nullptr, &instance), VK_SUCCESS);
+    uint32_t n = 1;
+    VkPhysicalDevice pd = VK_NULL_HANDLE;
+    vkEnumeratePhysicalDevices(instance, &n, &pd);
+    ASSERT_NE(pd, VK_NULL_HANDLE);
+    VkPhysicalDeviceProperties props{};
+    vkGetPhysicalDeviceProperties(pd, &props);
+    const float priority = 1.0f;
+    auto qci = makeVk<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
+    qci.queueCount = 1;
+    qci.pQueuePriorities = &priority;
+    auto dci = makeVk<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
+    dci.queueCreateInfoCount = 1;
+    dci.pQueueCreateInfos = &qci;
+    VkDevice device = VK_NULL_HANDLE;
+    ASSERT_EQ(vkCreateDevice(pd, &dci, nullptr, &device), VK_SUCCESS);
+    const uint32_t got = deviceApiVersion(pd, device);
+    if (asked == VK_API_VERSION_1_0) {
+      EXPECT_EQ(got, VK_API_VERSION_1_0);
+    } else {
+      // Lavapipe reports 1.3 (Mesa 22.3) or 1.4 (Mesa 25): the probe tops out at 1.3.
+      EXPECT_EQ(got,
+                std::min(VK_API_VERSION_1_3, VK_MAKE_API_VERSION(0, VK_API_VERSION_MAJOR(props.apiVersion),
+                                                                 VK_API_VERSION_MINOR(props.apiVersion), 0)));
+    }
+    vkDestroyDevice(device, nullptr);
+    vkDestroyInstance(instance, nullptr);
+  }
+}
+
+}  // namespace
+}  // namespace steadyxr::layer
