@@ -67,6 +67,21 @@ constexpr FloatKey kFloatKeys[] = {
     {"stereo_beta_min", &core::Params::stereoBetaMin, 0.0f, 1.0f},
     {"reset_angle_deg", &core::Params::resetAngleDeg, 0.0f, 180.0f},
     {"reset_translation_m", &core::Params::resetTranslationM, 0.0f, 100.0f},
+    {"steady_alpha_floor", &core::Params::steadyAlphaFloor, 0.001f, 1.0f},
+    {"steady_blur_budget_px2", &core::Params::steadyBlurBudgetPx2, 0.0f, 100.0f},
+    {"steady_footprint", &core::Params::steadyFootprint, 0.0f, 0.25f},
+    {"steady_nearest_depth_m", &core::Params::steadyNearestDepthM, 0.01f, 1.0e6f},
+};
+
+// Boolean switches of core::Params (steady's ablation switches).
+struct BoolKey {
+  const char* key;
+  bool core::Params::*member;
+};
+constexpr BoolKey kBoolKeys[] = {
+    {"steady_confidence", &core::Params::steadyConfidence},
+    {"steady_clip_rejects", &core::Params::steadyClipRejects},
+    {"steady_interpolated", &core::Params::steadyInterpolated},
 };
 
 constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source",   "imu_device",
@@ -157,6 +172,15 @@ void applyKey(Config& c, const std::string& key, const std::string& value, const
     else
       bad(messages, key, value, origin, std::to_string(defaults.params.sampleCount));
   } else {
+    for (const BoolKey& b : kBoolKeys) {
+      if (key == b.key) {
+        if (auto v = parseBool(value))
+          c.params.*b.member = *v;
+        else
+          bad(messages, key, value, origin, defaults.params.*b.member ? "1" : "0");
+        return;
+      }
+    }
     for (const FloatKey& f : kFloatKeys) {
       if (key == f.key) {
         const auto d = parseNumber(value);
@@ -188,7 +212,8 @@ std::string_view toString(LogLevel level) {
 }
 
 bool isKnownMethodName(std::string_view name) {
-  static constexpr std::string_view kTemporal[] = {"none", "fxaa", "taa", "hmtaa", "vtaa", "hybrid", "steady"};
+  static constexpr std::string_view kTemporal[] = {"none", "fxaa",   "taa",   "hmtaa",
+                                                   "vtaa", "hybrid", "steady"};
   if (name == "default" || name == "stereo") return true;
   std::string_view base = name;
   constexpr std::string_view kSuffix = "+stereo";
@@ -201,6 +226,7 @@ bool isKnownMethodName(std::string_view name) {
 std::vector<std::string> knownConfigKeys() {
   std::vector<std::string> keys(std::begin(kOtherKeys), std::end(kOtherKeys));
   for (const FloatKey& f : kFloatKeys) keys.emplace_back(f.key);
+  for (const BoolKey& b : kBoolKeys) keys.emplace_back(b.key);
   return keys;
 }
 
