@@ -45,7 +45,7 @@ std::optional<TemporalMethod> parseTemporalMethod(std::string_view name) {
 std::optional<Params> applyMethodName(std::string_view name, Params base) {
   if (name == "default") {
     base.temporal = kDefaultTemporalMethod;
-    base.stereo = true;
+    base.stereo = kDefaultStereo;
     return base;
   }
   if (name == "stereo") {
