@@ -124,7 +124,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyInterpolated = value != 0.0f;
     else {
       *error = "unknown parameter '" + key +
-               "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d, catmull, floor, conf, reject, blur, footprint, near, "
+               "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d, catmull, floor, conf, reject, blur, "
+               "footprint, near, "
                "interp)";
       return false;
     }
