@@ -46,7 +46,8 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        motions with and without depth; one table per motion and picture
                        class (defaults: 96x96, 48 frames placed over the preset's motion
                        changes, display = app rate, no seed 004
-                       study, fewer methods; ~10 min on 2 cores)
+                       study, fewer methods; ~5 min on 2 cores); --motions and --images
+                       narrow it
   --unorm              UNORM eye images and textures (filtering in encoded values) instead
                        of sRGB (linear light, the default)
   --no-mipmaps         sample textures without mipmaps (the worst case; default trilinear)
@@ -159,7 +160,7 @@ int main(int argc, char** argv) {
     if (!framesGiven) o.frames = 16;
   }
   if (o.corpus) {
-    // Sized to finish in about 10 minutes on 2 cores (README "Accuracy": measured).
+    // Sized to stay well within 10 minutes on 2 cores: 120 cases took 5 min 10 s (README "Accuracy").
     if (!resolutionGiven) o.width = o.height = 96;
     if (!framesGiven) o.frames = 48;
     if (!displayGiven) o.displayHz = o.appHz;  // the display stage's extra ground truths cost 3x

@@ -184,6 +184,12 @@ def plot_pareto_classes(rows, charts, device):
                     costs.append(num(r["cost_ms"]) or 0.0)
                 if ratios:
                     pts.append((max(sum(costs) / len(costs), 1e-3), sum(ratios) / len(ratios), m))
+            if not any(p[2] != "oracle" for p in pts):
+                continue
+            # The oracle is a bound, not a method: a line, outside the Pareto front.
+            for c, e, name in [p for p in pts if p[2] == "oracle"]:
+                ax.axhline(e, color="tab:purple", lw=0.9, ls=":", label=f"oracle (bound) {e:.2f}")
+            pts = [p for p in pts if p[2] != "oracle"]
             for c, e, name in pts:
                 ax.scatter([c], [e], s=36, color="tab:red" if name.startswith("default") else "tab:blue")
                 ax.annotate(name, (c, e), fontsize=7, xytext=(3, 2), textcoords="offset points")
@@ -191,10 +197,10 @@ def plot_pareto_classes(rows, charts, device):
             if front:
                 ax.plot([p[0] for p in front], [p[1] for p in front], "-", color="tab:green", lw=1.2,
                         label="Pareto front")
-                ax.legend(fontsize=8)
+            ax.legend(fontsize=8)
             ax.axhline(1.0, color="gray", lw=0.8, ls="--")
             ax.set_xscale("log")
-            ax.set_xlabel(f"cost: filter ms (both eyes, {device}; oracle: CPU, drawn at 0.001)")
+            ax.set_xlabel(f"cost: filter ms (both eyes, {device})")
             ax.set_ylabel(label)
             ax.grid(alpha=0.3)
         n_cases = len({r["scenario"] for r in sub})

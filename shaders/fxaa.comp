@@ -1,15 +1,18 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// FXAA 3.11-style quality filter (seed 001 §4.3): luma edge detection, edge-end search along
-// the edge with growing steps, sub-pixel aliasing blend. Luma is taken in gamma space (sqrt of
+// FXAA 3.11 quality filter (seed 001 §4.3): luma edge detection, edge-end search along the
+// edge with growing steps, sub-pixel aliasing blend. Luma is taken in gamma space (sqrt of
 // linear luminance) as FXAA expects; the colour is filtered in linear light.
 #include "common.glsl"
 
+// FXAA 3.11's defaults: fxaaQualityEdgeThreshold, fxaaQualityEdgeThresholdMin, fxaaQualitySubpix.
 const float kEdgeThreshold = 0.166;
 const float kEdgeThresholdMin = 0.0833;
 const float kSubpix = 0.75;
+// FXAA_QUALITY__PRESET 25: the search samples at the cumulative sums of the first seven steps;
+// a side still on the edge after the last sample is assumed to continue one more step.
 const int kSteps = 8;
-const float kStep[8] = float[8](1.0, 1.5, 2.0, 2.0, 2.0, 4.0, 8.0, 8.0);
+const float kStep[8] = float[8](1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0);
 
 vec3 sampleAt(vec2 q) {  // bilinear in src0's rect, q in pixel units (centres at +0.5)
   q = clamp(q, vec2(0.5), vec2(P.src0Rect.zw) - 0.5);
@@ -37,9 +40,10 @@ void main() {
     float lNE = luma(fetchSrc0(p + ivec2(1, -1)));
     float lSW = luma(fetchSrc0(p + ivec2(-1, 1)));
     float lSE = luma(fetchSrc0(p + ivec2(1, 1)));
-    float edgeH = abs(lNW + lNE - 2.0 * lN) + 2.0 * abs(lW + lE - 2.0 * lM) + abs(lSW + lSE - 2.0 * lS);
-    float edgeV = abs(lNW + lSW - 2.0 * lW) + 2.0 * abs(lN + lS - 2.0 * lM) + abs(lNE + lSE - 2.0 * lE);
-    bool horz = edgeH >= edgeV;  // the edge runs horizontally: step across in y
+    // Second differences across y (large where the edge runs horizontally) and across x.
+    float edgeHorz = abs(lNW + lSW - 2.0 * lW) + 2.0 * abs(lN + lS - 2.0 * lM) + abs(lNE + lSE - 2.0 * lE);
+    float edgeVert = abs(lNW + lNE - 2.0 * lN) + 2.0 * abs(lW + lE - 2.0 * lM) + abs(lSW + lSE - 2.0 * lS);
+    bool horz = edgeHorz >= edgeVert;  // the edge runs horizontally: blend across it in y
     float l1 = horz ? lN : lW;
     float l2 = horz ? lS : lE;
     float g1 = abs(l1 - lM);
@@ -57,17 +61,14 @@ void main() {
     float e2 = lumaAt(q2) - lLocalAvg;
     bool done1 = abs(e1) >= gradScaled;
     bool done2 = abs(e2) >= gradScaled;
-    for (int i = 1; i < kSteps && !(done1 && done2); ++i) {
-      if (!done1) {
-        q1 -= along * kStep[i];
-        e1 = lumaAt(q1) - lLocalAvg;
-        done1 = abs(e1) >= gradScaled;
-      }
-      if (!done2) {
-        q2 += along * kStep[i];
-        e2 = lumaAt(q2) - lLocalAvg;
-        done2 = abs(e2) >= gradScaled;
-      }
+    for (int i = 1; i < kSteps; ++i) {
+      if (!done1) q1 -= along * kStep[i];
+      if (!done2) q2 += along * kStep[i];
+      if ((done1 && done2) || i == kSteps - 1) break;  // the last step is not sampled
+      if (!done1) e1 = lumaAt(q1) - lLocalAvg;
+      if (!done2) e2 = lumaAt(q2) - lLocalAvg;
+      done1 = abs(e1) >= gradScaled;
+      done2 = abs(e2) >= gradScaled;
     }
     float d1 = dot(pc - q1, along);
     float d2 = dot(q2 - pc, along);

@@ -26,7 +26,10 @@ constexpr const char* kUsage = R"(usage: steadyxr-imu-emu [options]
   --truth-rate HZ      rate of the ground-truth rows (default: the sample rate)
   --realtime | --fast  pace reports in real time (default for fifo/socket/uhid) or not (file)
   --ts-start US        first device timestamp in microseconds (e.g. 4294000000 to test wrap)
-  --gyro-noise RAD_S   white gyro noise per sample;  --accel-noise M_S2  likewise
+  --no-sensor-noise    exact (quantised) values: switch the consumer-MEMS sensor model off
+                       (BMI160 figures: gyro 0.007 deg/s/rtHz, bias 0.05 deg/s + random walk,
+                       accel 180 ug/rtHz, bias 2 mg; on by default, seeded by --seed)
+  --gyro-noise RAD_S   extra white gyro noise per sample;  --accel-noise M_S2  likewise
   --drop P             drop each report with probability P (fault injection)
   --garbage P          after each report, with probability P, write random bytes
   --print-descriptor   print the HID report descriptor as hex and exit
@@ -39,7 +42,7 @@ struct Options {
   double gyroNoise = 0.0, accelNoise = 0.0;
   uint32_t tsStart = 0;
   int realtime = -1;  // -1: by transport
-  bool printDescriptor = false, listMotions = false;
+  bool printDescriptor = false, listMotions = false, sensorNoise = true;
 };
 
 bool parse(int argc, char** argv, Options* o) {
@@ -55,6 +58,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->printDescriptor = true;
     else if (a == "--list-motions")
       o->listMotions = true;
+    else if (a == "--no-sensor-noise")
+      o->sensorNoise = false;
     else if (a == "-h" || a == "--help")
       return false;
     else if (!(v = value()))
@@ -141,6 +146,7 @@ int main(int argc, char** argv) {
   ep.timestampStartUs = o.tsStart;
   ep.gyroNoiseRadPerSec = o.gyroNoise;
   ep.accelNoiseMps2 = o.accelNoise;
+  ep.sensor.enabled = o.sensorNoise;
   ep.seed = o.seed;
   ReportGenerator gen(*stream, ep);
   steadyxr::imu::detail::Rng faults(o.seed ^ 0xFA17ull);

@@ -115,6 +115,33 @@ class UhidSink final : public ReportSink {
 
 }  // namespace
 
+struct SensorErrors::Rng : detail::Rng {
+  using detail::Rng::Rng;
+};
+
+SensorErrors::SensorErrors(const SensorModel& m, double sampleRateHz, uint64_t seed)
+    : rng_(std::make_unique<Rng>(seed ^ 0x5E4502ull)) {
+  constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+  const double rate = std::max(sampleRateHz, 1.0);
+  gyroSigma_ = m.gyroNoiseDensityDegPerSecRtHz * kDegToRad * std::sqrt(rate);
+  accelSigma_ = m.accelNoiseDensityUgRtHz * 1e-6 * kGravity * std::sqrt(rate);
+  biasStep_ = m.gyroBiasRandomWalkDegPerSecRtSec * kDegToRad / std::sqrt(rate);
+  for (int k = 0; k < 3; ++k) {
+    gyroBias_[k] = m.gyroBiasSigmaDegPerSec * kDegToRad * rng_->gaussian();
+    accelBias_[k] = m.accelBiasSigmaMg * 1e-3 * kGravity * rng_->gaussian();
+  }
+}
+
+SensorErrors::~SensorErrors() = default;
+
+void SensorErrors::apply(glm::dvec3* gyro, glm::dvec3* accel) {
+  for (int k = 0; k < 3; ++k) {
+    (*gyro)[k] += gyroBias_[k] + gyroSigma_ * rng_->gaussian();
+    (*accel)[k] += accelBias_[k] + accelSigma_ * rng_->gaussian();
+    gyroBias_[k] += biasStep_ * rng_->gaussian();
+  }
+}
+
 struct ReportGenerator::Noise {
   explicit Noise(uint64_t seed) : rng(seed) {}
   detail::Rng rng;
@@ -125,7 +152,9 @@ ReportGenerator::ReportGenerator(const MotionStream& stream, const EmulatorParam
       p_(p),
       intervalUs_(
           static_cast<uint16_t>(std::clamp(std::lround(1e6 / std::max(p.sampleRateHz, 20.0)), 1l, 50000l))),
-      noise_(std::make_unique<Noise>(p.seed ^ 0x5E5Eull)) {}
+      noise_(std::make_unique<Noise>(p.seed ^ 0x5E5Eull)) {
+  if (p.sensor.enabled) sensor_ = std::make_unique<SensorErrors>(p.sensor, 1e6 / intervalUs_, p.seed);
+}
 
 ReportGenerator::~ReportGenerator() = default;
 
@@ -142,11 +171,13 @@ hid::Report ReportGenerator::next() {
     const double t = static_cast<double>(sampleIndex_) * intervalUs_ * 1e-6;
     const MotionState m = stream_.at(t);
     const glm::dquat q(m.orientation);
-    const glm::dvec3 specificForce =
+    glm::dvec3 specificForce =
         glm::conjugate(q) * (glm::dvec3(m.linearAccelerationMps2) + glm::dvec3(0.0, kGravity, 0.0));
+    glm::dvec3 gyro(m.angularVelocityRadPerSec);
+    if (sensor_) sensor_->apply(&gyro, &specificForce);
     for (int k = 0; k < 3; ++k) {
       bool sat = false;
-      const double g = m.angularVelocityRadPerSec[k] + p_.gyroBiasRadPerSec[k] +
+      const double g = gyro[k] + p_.gyroBiasRadPerSec[k] +
                        (p_.gyroNoiseRadPerSec > 0 ? p_.gyroNoiseRadPerSec * noise_->rng.gaussian() : 0.0);
       r.samples[s][k] = hid::quantize(g, hid::kGyroLsb, &sat);
       saturated_ += sat;

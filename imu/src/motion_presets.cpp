@@ -188,7 +188,8 @@ std::unique_ptr<MotionStream> walk(uint64_t seed) {
   // step rate, a little fore-aft surge with them; side-to-side sway, yaw and roll at the stride rate.
   s->oscillations.push_back({step, phase, {-pitch, 0.0, 0.0}, {0.0, bob, 0.01}});
   s->oscillations.push_back({stride, phase / 2.0, {0.0, yaw, -roll}, {side, 0.0, 0.0}});
-  // Gait variability: ~5 % amplitude and a slow phase wander (stride-time CV of a few per cent).
+  // Gait variability: ~5 % amplitude and a slow phase wander, a few per cent of the step period
+  // (stride-time CV 2-4 %: Hausdorff et al. 1995, J Appl Physiol 78:349).
   s->gaitAmplitude = BandNoise(rng, 20.0, 12.0, 0.0, 0.3, 1);
   s->gaitPhase = BandNoise(rng, 20.0, 12.0, 0.0, 0.3, 1);
   s->gaitAmplitudeRms = 0.05;
@@ -200,20 +201,29 @@ std::unique_ptr<MotionStream> walk(uint64_t seed) {
   return s;
 }
 
+// Leaning pivots the trunk at the hip: the eyes, ~0.75 m above it when seated (sitting eye height
+// above the seat, adult anthropometric tables), move on a circle and drop as they travel.
+constexpr double kHipToEyesM = 0.75;
+double leanDrop(double travel) {
+  return kHipToEyesM - std::sqrt(kHipToEyesM * kHipToEyesM - travel * travel);
+}
+
 std::unique_ptr<MotionStream> lean(uint64_t seed) {
   Rng rng = presetRng(seed, 0x1EA7);
   double t = rng.uniform(0.5, 1.0);
   std::vector<Lean> leans;
-  {  // forward and a little down (the trunk pivots at the hip), looking down
+  {  // forward, looking down
     const double d = rng.uniform(0.10, 0.20);
-    leans.push_back({t, rng.uniform(1.0, 2.0), {0.0, -0.2 * d, -d}, {-rng.uniform(5.0, 10.0), 0.0, 0.0}});
+    leans.push_back({t, rng.uniform(1.0, 2.0), {0.0, -leanDrop(d), -d}, {-rng.uniform(5.0, 10.0), 0.0, 0.0}});
     t += leans.back().duration + rng.uniform(0.8, 1.2);
   }
   {  // then sideways, rolling towards that side (right ear down is negative about +Z)
     const double side = rng.uniform() < 0.5 ? -1.0 : 1.0;
     const double d = rng.uniform(0.10, 0.20);
-    leans.push_back(
-        {t, rng.uniform(1.0, 2.0), {side * d, -0.2 * d, 0.0}, {0.0, 0.0, -side * rng.uniform(5.0, 10.0)}});
+    leans.push_back({t,
+                     rng.uniform(1.0, 2.0),
+                     {side * d, -leanDrop(d), 0.0},
+                     {0.0, 0.0, -side * rng.uniform(5.0, 10.0)}});
     t += leans.back().duration;
   }
   auto s = std::make_unique<Scripted>("lean", seed, t + 1.0, 1.0);

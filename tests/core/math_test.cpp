@@ -65,6 +65,28 @@ TEST(ViewMath, SlerpAndAngle) {
   EXPECT_NEAR(angleBetweenDeg(b.orientation, -b.orientation), 0.0f, 1e-2f);  // q and -q are one rotation
 }
 
+TEST(ViewMath, AngleIsExactForSmallAngles) {
+  // Rotations by a known angle from several base orientations, against the analytic angle.
+  const glm::quat bases[] = {glm::quat(1, 0, 0, 0), glm::angleAxis(0.65f, glm::normalize(glm::vec3(1, 2, 3))),
+                             glm::angleAxis(2.9f, glm::normalize(glm::vec3(-0.3f, 1, 0.2f)))};
+  const glm::vec3 axes[] = {{0, 1, 0}, glm::normalize(glm::vec3(1, -1, 0.5f))};
+  for (const glm::quat& base : bases)
+    for (const glm::vec3& axis : axes)
+      for (double deg : {0.001, 0.005, 0.02, 0.04, 0.1, 1.0, 10.0, 90.0, 179.0}) {
+        const glm::quat b = base * glm::quat(glm::angleAxis(glm::radians(deg), glm::dvec3(axis)));
+        // Float inputs: each component is rounded by ~6e-8, ~0.7e-5 deg of angle.
+        EXPECT_NEAR(angleBetweenDeg(base, b), deg, 2e-5 + 1e-6 * deg) << deg;
+        EXPECT_NEAR(angleBetweenDeg(b, base), deg, 2e-5 + 1e-6 * deg) << deg;
+      }
+  // Head speed from two frames 1/90 s apart: no steps (the acos form moved in ~1.2 deg/s steps
+  // and read 0 below ~3.6 deg/s).
+  const glm::quat a = bases[1];
+  for (double speed = 0.1; speed < 5.0; speed += 0.05) {
+    const glm::quat b = a * glm::quat(glm::angleAxis(glm::radians(speed / 90.0), glm::dvec3(0, 1, 0)));
+    EXPECT_NEAR(angleBetweenDeg(a, b) * 90.0, speed, 0.002 + 1e-3 * speed) << speed;
+  }
+}
+
 TEST(ViewMath, GlobalWeightAMatchesEq4) {
   EXPECT_NEAR(globalWeightA(0.0f, 25.0f, 0.3f), 0.3f, 1e-6f);
   // h = h_max/2: cos(pi/2) = 0 -> (-(0-1)/2)^2 = 0.25 -> 0.7*0.25 + 0.3 = 0.475

@@ -190,62 +190,88 @@ HostImage temporalRef(core::TemporalMethod m, const core::Params& p, const HostI
 }
 
 HostImage fxaaRef(const HostImage& in) {
-  // FXAA 3.11 quality, written from seed 001 §4.3 / the FXAA 3.11 reference structure.
-  const float kSteps[8] = {1.0f, 1.5f, 2.0f, 2.0f, 2.0f, 4.0f, 8.0f, 8.0f};
+  // FXAA 3.11 "quality" (Lottes 2011, FXAA 3.11 source description; seed 001 §4.3), written from
+  // the algorithm's description, in pixel units (centres at +0.5), with its default settings and
+  // FXAA_QUALITY__PRESET 25. Luma is sqrt of linear luminance (gamma-like, what FXAA expects of
+  // its luma input); colours are sampled bilinearly in linear light, clamped at the borders.
+  constexpr float kEdgeThreshold = 0.166f;      // fxaaQualityEdgeThreshold
+  constexpr float kEdgeThresholdMin = 0.0833f;  // fxaaQualityEdgeThresholdMin
+  constexpr float kSubpix = 0.75f;              // fxaaQualitySubpix
+  constexpr float kPreset25[8] = {1.0f, 1.5f, 2.0f, 2.0f, 2.0f, 2.0f, 4.0f, 8.0f};  // P0..P7
   auto luma = [](vec3 c) { return std::sqrt(std::max(glm::dot(c, vec3(0.299f, 0.587f, 0.114f)), 0.0f)); };
-  auto L = [&](int x, int y) { return luma(fetchClamped(in, x, y)); };
-  auto LAt = [&](vec2 q) { return luma(bilinear(in, q)); };
   HostImage out(in.width, in.height);
   for (int y = 0; y < int(in.height); ++y)
     for (int x = 0; x < int(in.width); ++x) {
-      const vec2 pc(x + 0.5f, y + 0.5f);
-      const float m = L(x, y), nn = L(x, y - 1), s = L(x, y + 1), w = L(x - 1, y), e = L(x + 1, y);
-      const float mx = std::max({m, nn, s, w, e}), mn = std::min({m, nn, s, w, e});
-      const float range = mx - mn;
-      vec3 result = fetchClamped(in, x, y);
-      if (range >= std::max(0.0833f, mx * 0.166f)) {
-        const float nw = L(x - 1, y - 1), ne = L(x + 1, y - 1), sw = L(x - 1, y + 1), se = L(x + 1, y + 1);
-        const float edgeH =
-            std::abs(nw + ne - 2 * nn) + 2 * std::abs(w + e - 2 * m) + std::abs(sw + se - 2 * s);
-        const float edgeV =
-            std::abs(nw + sw - 2 * w) + 2 * std::abs(nn + s - 2 * m) + std::abs(ne + se - 2 * e);
-        const bool horz = edgeH >= edgeV;
-        const float l1 = horz ? nn : w, l2 = horz ? s : e;
-        const float g1 = std::abs(l1 - m), g2 = std::abs(l2 - m);
-        const bool side1 = g1 >= g2;
-        const float gradScaled = 0.25f * std::max(g1, g2);
-        const float stepLen = side1 ? -1.0f : 1.0f;
-        const float localAvg = 0.5f * ((side1 ? l1 : l2) + m);
-        const vec2 across = horz ? vec2(0, 1) : vec2(1, 0);
-        const vec2 along = horz ? vec2(1, 0) : vec2(0, 1);
-        const vec2 q = pc + across * (0.5f * stepLen);
-        vec2 q1 = q - along * kSteps[0], q2 = q + along * kSteps[0];
-        float e1 = LAt(q1) - localAvg, e2 = LAt(q2) - localAvg;
-        bool d1 = std::abs(e1) >= gradScaled, d2 = std::abs(e2) >= gradScaled;
-        for (int i = 1; i < 8 && !(d1 && d2); ++i) {
-          if (!d1) {
-            q1 -= along * kSteps[i];
-            e1 = LAt(q1) - localAvg;
-            d1 = std::abs(e1) >= gradScaled;
-          }
-          if (!d2) {
-            q2 += along * kSteps[i];
-            e2 = LAt(q2) - localAvg;
-            d2 = std::abs(e2) >= gradScaled;
-          }
-        }
-        const float dist1 = glm::dot(pc - q1, along), dist2 = glm::dot(q2 - pc, along);
-        const bool nearer1 = dist1 < dist2;
-        const float pixelOffset = -std::min(dist1, dist2) / (dist1 + dist2) + 0.5f;
-        const bool mLess = (m - localAvg) < 0.0f;
-        const bool good = ((nearer1 ? e1 : e2) < 0.0f) != mLess;
-        const float avg = (2 * (nn + s + w + e) + nw + ne + sw + se) / 12.0f;
-        const float sub1 = std::clamp(std::abs(avg - m) / range, 0.0f, 1.0f);
-        const float sub2 = (-2 * sub1 + 3) * sub1 * sub1;
-        const float off = std::max(good ? pixelOffset : 0.0f, sub2 * sub2 * 0.75f);
-        result = bilinear(in, pc + across * (off * stepLen));
+      auto lumaOff = [&](int dx, int dy) { return luma(fetchClamped(in, x + dx, y + dy)); };
+      const vec2 posM(x + 0.5f, y + 0.5f);
+      const vec3 rgbM = fetchClamped(in, x, y);
+      out.at(uint32_t(x), uint32_t(y)) = vec4(rgbM, 1.0f);
+
+      // 1. Local contrast of the cross; low contrast (relative to the brightest, or absolute) exits.
+      const float lumaM = luma(rgbM);
+      const float lumaN = lumaOff(0, -1), lumaS = lumaOff(0, 1), lumaW = lumaOff(-1, 0),
+                  lumaE = lumaOff(1, 0);
+      const float rangeMax = std::max({lumaM, lumaN, lumaS, lumaW, lumaE});
+      const float rangeMin = std::min({lumaM, lumaN, lumaS, lumaW, lumaE});
+      const float range = rangeMax - rangeMin;
+      if (range < std::max(kEdgeThresholdMin, rangeMax * kEdgeThreshold)) continue;
+
+      // 2. Sub-pixel aliasing: how far the pixel sits from the 3x3 low-pass (weights 1 2 1 / 2 . 2 /
+      //    1 2 1, over 12), relative to the local range, through a smoothstep, squared, times subpix.
+      const float lumaNW = lumaOff(-1, -1), lumaNE = lumaOff(1, -1), lumaSW = lumaOff(-1, 1),
+                  lumaSE = lumaOff(1, 1);
+      const float lowpass =
+          (2.0f * (lumaN + lumaS + lumaW + lumaE) + lumaNW + lumaNE + lumaSW + lumaSE) / 12.0f;
+      const float subpixC = std::clamp(std::abs(lowpass - lumaM) / range, 0.0f, 1.0f);
+      const float subpixF = (3.0f - 2.0f * subpixC) * subpixC * subpixC;
+      const float subpixH = subpixF * subpixF * kSubpix;
+
+      // 3. Edge orientation from second differences: across y (rows N, M, S in three columns,
+      //    the middle one twice) against across x. A horizontal edge changes along y.
+      const float edgeHorz = std::abs(lumaNW - 2.0f * lumaW + lumaSW) +
+                             2.0f * std::abs(lumaN - 2.0f * lumaM + lumaS) +
+                             std::abs(lumaNE - 2.0f * lumaE + lumaSE);
+      const float edgeVert = std::abs(lumaNW - 2.0f * lumaN + lumaNE) +
+                             2.0f * std::abs(lumaW - 2.0f * lumaM + lumaE) +
+                             std::abs(lumaSW - 2.0f * lumaS + lumaSE);
+      const bool horzSpan = edgeHorz >= edgeVert;
+      const vec2 across = horzSpan ? vec2(0.0f, 1.0f) : vec2(1.0f, 0.0f);  // step across the edge
+      const vec2 along = horzSpan ? vec2(1.0f, 0.0f) : vec2(0.0f, 1.0f);   // search along it
+
+      // 4. The side (negative: N or W; positive: S or E) with the larger gradient is where the edge is.
+      const float lumaNeg = horzSpan ? lumaN : lumaW, lumaPos = horzSpan ? lumaS : lumaE;
+      const float gradientNeg = std::abs(lumaNeg - lumaM), gradientPos = std::abs(lumaPos - lumaM);
+      const bool pairNeg = gradientNeg >= gradientPos;
+      const float lengthSign = pairNeg ? -1.0f : 1.0f;
+      const float gradientScaled = 0.25f * std::max(gradientNeg, gradientPos);
+      const float lumaEdgeAvg = 0.5f * (lumaM + (pairNeg ? lumaNeg : lumaPos));  // 3.11's lumaNN * 0.5
+
+      // 5. Search both ways along the edge, on the line between the pixel and that neighbour,
+      //    until the luma there leaves the edge's average by a quarter of the gradient.
+      const vec2 posB = posM + across * (0.5f * lengthSign);
+      float offN = kPreset25[0], offP = kPreset25[0];
+      float lumaEndN = luma(bilinear(in, posB - along * offN)) - lumaEdgeAvg;
+      float lumaEndP = luma(bilinear(in, posB + along * offP)) - lumaEdgeAvg;
+      bool doneN = std::abs(lumaEndN) >= gradientScaled, doneP = std::abs(lumaEndP) >= gradientScaled;
+      for (int level = 1; level < 8 && !(doneN && doneP); ++level) {
+        if (!doneN) offN += kPreset25[level];  // the last level moves without sampling
+        if (!doneP) offP += kPreset25[level];
+        if (level == 7) break;
+        if (!doneN) lumaEndN = luma(bilinear(in, posB - along * offN)) - lumaEdgeAvg;
+        if (!doneP) lumaEndP = luma(bilinear(in, posB + along * offP)) - lumaEdgeAvg;
+        doneN = std::abs(lumaEndN) >= gradientScaled;
+        doneP = std::abs(lumaEndP) >= gradientScaled;
       }
-      out.at(uint32_t(x), uint32_t(y)) = vec4(result, 1.0f);
+
+      // 6. End-of-edge offset: the nearer end decides; the pixel moves across the edge by
+      //    0.5 - distance / span when the luma at that end tells the pixel is on the far side of
+      //    the edge's step (otherwise 0), at least the sub-pixel offset.
+      const bool nearerN = offN < offP;
+      const float lumaEndNearer = nearerN ? lumaEndN : lumaEndP;
+      const bool goodSpan = (lumaEndNearer < 0.0f) != (lumaM - lumaEdgeAvg < 0.0f);
+      const float pixelOffset = goodSpan ? 0.5f - std::min(offN, offP) / (offN + offP) : 0.0f;
+      const float offset = std::max(pixelOffset, subpixH);
+      out.at(uint32_t(x), uint32_t(y)) = vec4(bilinear(in, posM + across * (offset * lengthSign)), 1.0f);
     }
   return out;
 }
