@@ -199,8 +199,14 @@ std::unique_ptr<ReportTransport> openSocketTransport(const std::string& path, st
 }
 
 ImuPoseSource::ImuPoseSource(std::unique_ptr<ReportTransport> transport, TimeDomain domain,
-                             const FusionParams& fusion, const PoseHistory::Params& history)
-    : transport_(std::move(transport)), domain_(domain), fusionParams_(fusion), history_(history) {
+                             const FusionParams& fusion, const PoseHistory::Params& history,
+                             ReopenTransport reopen, ImuLog log)
+    : transport_(std::move(transport)),
+      reopen_(std::move(reopen)),
+      log_(std::move(log)),
+      domain_(domain),
+      fusionParams_(fusion),
+      history_(history) {
   stats_.running = true;
   thread_ = std::thread([this] { run(); });
 }
@@ -229,6 +235,29 @@ bool ImuPoseSource::waitForSamples(uint64_t count, std::chrono::milliseconds tim
   return fused_ >= count;
 }
 
+void ImuPoseSource::sleepUnlessStopped(std::chrono::milliseconds d) const {
+  const auto until = std::chrono::steady_clock::now() + d;
+  while (!stop_ && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+}
+
+bool ImuPoseSource::reconnect() {
+  std::string error;
+  for (const auto delay : kReconnectDelays) {
+    sleepUnlessStopped(delay);
+    if (stop_) return false;
+    if (auto t = reopen_(&error)) {
+      transport_ = std::move(t);
+      if (log_) log_("imu: reconnected to " + transport_->describe());
+      const std::lock_guard lock(statsMu_);
+      ++stats_.reconnects;
+      return true;
+    }
+  }
+  if (log_) log_("imu: cannot reconnect (" + error + "); no more IMU data");
+  return false;
+}
+
 void ImuPoseSource::run() {
   hid::ReportParser parser;
   Fusion fusion(fusionParams_);
@@ -240,10 +269,19 @@ void ImuPoseSource::run() {
   while (!stop_) {
     const auto result = transport_->read(&report, 50);
     if (result == ReportTransport::Result::kTimeout) continue;
-    if (result == ReportTransport::Result::kEnd) break;
-    if (result == ReportTransport::Result::kError) {
-      error = "read error on " + transport_->describe();
-      break;
+    if (result == ReportTransport::Result::kEnd || result == ReportTransport::Result::kError) {
+      error = (result == ReportTransport::Result::kEnd ? "end of stream on " : "read error on ") +
+              transport_->describe();
+      {
+        const std::lock_guard lock(statsMu_);
+        ++stats_.streamEnds;
+      }
+      if (log_) log_("imu: " + error + (reopen_ ? "; reconnecting" : ""));
+      if (!reopen_ || !reconnect()) break;
+      // Parser, fusion and clock mapping go on: the parser counts a sequence jump and the
+      // clock mapper re-anchors on a timestamp jump (ClockMapper::resets), as for any gap.
+      error.clear();
+      continue;
     }
     const int64_t hostNow = monotonicNowNs();
     samples.clear();
@@ -267,11 +305,12 @@ void ImuPoseSource::run() {
     stats_.clockResets = clock.resets();
   }
   const std::lock_guard lock(statsMu_);
-  stats_.lastError = error;
+  // A file's end is where a recording stops, not an error.
+  stats_.lastError = error.rfind("end of stream on file:", 0) == 0 ? std::string() : error;
   running_ = false;
 }
 
-std::unique_ptr<ImuPoseSource> openImuPoseSource(const std::string& specIn, std::string* error) {
+std::unique_ptr<ImuPoseSource> openImuPoseSource(const std::string& specIn, std::string* error, ImuLog log) {
   std::string spec = specIn;
   std::optional<TimeDomain> domain;
   if (const auto q = spec.find("?clock="); q != std::string::npos) {
@@ -316,7 +355,21 @@ std::unique_ptr<ImuPoseSource> openImuPoseSource(const std::string& specIn, std:
   if (!t) return nullptr;
   PoseHistory::Params history;
   if (kind == "file") history.capacity = 1u << 17;  // a recording is sampled afterwards: keep ~2 min
-  return std::make_unique<ImuPoseSource>(std::move(t), domain.value_or(fallback), FusionParams{}, history);
+  ReopenTransport reopen;
+  if (kind != "file") {  // a recording ends for good; a live source may come back
+    reopen = [kind, arg](std::string* err) -> std::unique_ptr<ReportTransport> {
+      if (kind == "hid") {
+        unsigned vid = 0, pid = 0;
+        std::sscanf(arg.c_str(), "%x:%x", &vid, &pid);
+        return openHidTransport(static_cast<uint16_t>(vid), static_cast<uint16_t>(pid), err);
+      }
+      if (kind == "hidraw") return openHidPathTransport(arg, err);
+      if (kind == "fifo") return openFifoTransport(arg, err);
+      return openSocketTransport(arg, err);
+    };
+  }
+  return std::make_unique<ImuPoseSource>(std::move(t), domain.value_or(fallback), FusionParams{}, history,
+                                         std::move(reopen), std::move(log));
 }
 
 }  // namespace steadyxr::imu

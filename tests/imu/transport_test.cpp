@@ -2,10 +2,12 @@
 // emulator program end to end.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <mutex>
 #include <thread>
 
 #include <hidapi.h>
@@ -242,8 +244,64 @@ TEST(Emulator, ProgramServesASocketInRealTime) {
   const auto first = src->stateAt(*newest - 250'000'000);
   ASSERT_TRUE(first);
   EXPECT_FALSE(first->predicted);
-  for (int i = 0; i < 300 && src->stats().running; ++i) std::this_thread::sleep_for(10ms);  // emulator exits
-  EXPECT_FALSE(src->stats().running);
+  // The emulator exits: the stream ends (the reader then tries to reconnect, see below).
+  for (int i = 0; i < 300 && src->stats().streamEnds == 0; ++i) std::this_thread::sleep_for(10ms);
+  EXPECT_EQ(src->stats().streamEnds, 1u);
   EXPECT_EQ(src->stats().parser.droppedReports, 0u);
 }
 #endif
+
+// A live source whose stream ends (the emulator, or a device, goes away and comes back): the
+// end is logged and the reader reconnects, within kReconnectDelays, then gives up for good.
+TEST(ImuPoseSource, LiveStreamEndIsLoggedAndReconnected) {
+  std::string error;
+  const std::string path = tempPath("reconnect");
+  std::filesystem::remove(path);
+  std::mutex logMu;
+  std::vector<std::string> lines;
+  auto log = [&](const std::string& l) {
+    std::lock_guard lock(logMu);
+    lines.push_back(l);
+  };
+  auto count = [&](const std::string& what) {
+    std::lock_guard lock(logMu);
+    return std::count_if(lines.begin(), lines.end(),
+                         [&](const std::string& l) { return l.find(what) != std::string::npos; });
+  };
+  const auto m = makePursuit({}, 1);
+  ReportGenerator gen(*m, {});
+  auto send = [&](ReportSink& sink, int n) {
+    for (int i = 0; i < n; ++i) {
+      ASSERT_TRUE(sink.write(gen.next()));
+      std::this_thread::sleep_for(4ms);
+    }
+  };
+  auto sink = openReportSink("socket:" + path, &error);
+  ASSERT_TRUE(sink) << error;
+  const auto src = openImuPoseSource("socket:" + path, &error, log);
+  ASSERT_TRUE(src) << error;
+  send(*sink, 25);
+  ASSERT_TRUE(src->waitForSamples(100, 5s));
+  sink.reset();  // the emulator goes away
+  for (int i = 0; i < 200 && count("end of stream") == 0; ++i) std::this_thread::sleep_for(5ms);
+  EXPECT_EQ(count("end of stream on socket:"), 1);
+  sink = openReportSink("socket:" + path, &error);  // and comes back
+  ASSERT_TRUE(sink) << error;
+  for (int i = 0; i < 800 && src->stats().reconnects == 0; ++i) std::this_thread::sleep_for(5ms);
+  send(*sink, 25);
+  EXPECT_TRUE(src->waitForSamples(200, 5s)) << "no samples after the reconnect";
+  EXPECT_EQ(src->stats().reconnects, 1u);
+  EXPECT_EQ(count("imu: reconnected to socket:"), 1);
+  EXPECT_TRUE(src->stats().running);
+
+  sink.reset();  // gone for good: bounded retries, then one line and the reader stops
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < 2000 && src->stats().running; ++i) std::this_thread::sleep_for(5ms);
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_FALSE(src->stats().running);
+  EXPECT_EQ(count("cannot reconnect"), 1);
+  EXPECT_EQ(src->stats().streamEnds, 2u);
+  std::printf("reconnect: gave up after %.1f s\n", waited);
+  EXPECT_LT(waited, 9.0);  // 6.3 s of delays in kReconnectDelays, plus the connect attempts
+  std::filesystem::remove(path);
+}

@@ -66,6 +66,10 @@ bool ImageDumper::writeImage(core::VulkanContext& vk, const core::ImageRef& ref,
     log.once(LogLevel::Warn, "dump-format", "dump: only 8-bit RGBA/BGRA images are dumped; skipping");
     return false;
   }
+  if (ref.usage != 0 && !(ref.usage & VK_IMAGE_USAGE_TRANSFER_SRC_BIT)) {  // a copy from it is invalid
+    log.once(LogLevel::Warn, "dump-usage", "dump: an image without TRANSFER_SRC usage is not dumped");
+    return false;
+  }
   const VkDevice dev = vk.device();
   const uint32_t w = ref.rect.extent.width;
   const uint32_t h = ref.rect.extent.height;

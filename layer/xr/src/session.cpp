@@ -175,7 +175,10 @@ void Session::openImu() {
   std::snprintf(defaultSpec, sizeof defaultSpec, "hid:%04x:%04x", imu::hid::kVendorId, imu::hid::kProductId);
   const std::string spec = device == "auto" ? std::string(defaultSpec) : device;
   std::string error;
-  imu_ = imu::openImuPoseSource(spec, &error);
+  Logger* log = instance_->log.get();  // outlives imu_ (the instance state outlives its sessions)
+  imu_ = imu::openImuPoseSource(spec, &error, [log](const std::string& line) {
+    log->log(LogLevel::Warn, "pose_source = imu: " + line);
+  });
   if (!imu_) {
     instance_->log->log(LogLevel::Warn, "pose_source = imu: cannot open '" + spec + "' (" + error +
                                             "); head speed comes from the runtime's poses");
@@ -293,7 +296,10 @@ XrResult Session::createSwapchain(const XrSwapchainCreateInfo* info, XrSwapchain
   // SAMPLED is added only where the device can sample the image as the app asked for it.
   // Where it cannot (the app's own usage, format or size is unsupported), the request goes to
   // the runtime exactly as the app made it, once, and the runtime's answer is the app's.
-  const XrSwapchainUsageFlags wanted = appSwapchainUsage(info->usageFlags);
+  // dump_frames > 0 also reads the app's images back (a copy needs TRANSFER_SRC usage).
+  const XrSwapchainUsageFlags wanted =
+      appSwapchainUsage(info->usageFlags) |
+      (instance_->config.dumpFrames > 0 ? XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT : 0);
   const bool addSampled =
       isReadableSwapchain(*info) && wanted != info->usageFlags && deviceSupports(*info, wanted);
   XrSwapchainCreateInfo ours = *info;

@@ -36,7 +36,8 @@ VkRect2D toRect(const XrRect2Di& r) {
 
 OwnedSwapchain* Session::ensureOutput(AppSwapchain& app) {
   if (app.output) return app.output.get();
-  const XrSwapchainCreateInfo info = outputSwapchainInfo(app.info, mutableFormat_);
+  XrSwapchainCreateInfo info = outputSwapchainInfo(app.info, mutableFormat_);
+  if (dumper_.wants()) info.usageFlags |= XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT;  // the dump reads it back
   XrSwapchain handle = XR_NULL_HANDLE;
   XrResult r = next().createSwapchain(handle_, &info, &handle);
   if (XR_FAILED(r)) {

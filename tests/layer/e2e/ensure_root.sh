@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds (once) a Debian trixie root holding Monado 25, hello_xr 1.1.47, lavapipe and the
-# core_validation layer, in a cache folder outside the clone, and prints its path.
+# core_validation and Vulkan validation layers, in a cache folder outside the clone, and prints its path.
 # Exit codes: 0 ready, 77 debootstrap or the Debian mirror is unavailable, 1 other failure.
 set -euo pipefail
 
@@ -8,7 +8,8 @@ cache=${STEADYXR_CACHE_DIR:-$HOME/.cache/steadyxr}
 root=$cache/trixie-root
 stamp=$root/.steadyxr-ready
 packages=(monado-service libopenxr1-monado libopenxr-utils libopenxr-loader1 mesa-vulkan-drivers
-  vulkan-tools xvfb openxr-layer-apidump openxr-layer-corevalidation libhidapi-hidraw0)
+  vulkan-tools xvfb openxr-layer-apidump openxr-layer-corevalidation libhidapi-hidraw0
+  vulkan-validationlayers)
 
 mkdir -p "$cache"
 # One builder at a time; others wait for it and then reuse its result.

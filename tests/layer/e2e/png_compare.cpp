@@ -1,6 +1,6 @@
 // Compares the layer's dumped eye images (PNG) for the end-to-end test.
 //   png_compare equal A.png B.png
-//       exit 0 when the RGB pixels are identical; prints the largest channel difference.
+//       exit 0 when the RGBA pixels are identical; prints the largest channel difference.
 //   png_compare changes TOLERANCE DILATE IN.png OUT.png PREV_IN.png...
 //       prints "differ=N outside=N changed=N total=N": pixels where OUT differs from IN (by more
 //       than TOLERANCE in a channel), those of them outside the region where IN differs from any
@@ -22,9 +22,10 @@ struct Image {
   int w = 0;
   int h = 0;
   std::vector<unsigned char> rgba;
-  int diff(const Image& o, size_t p) const {
+  int diff(const Image& o, size_t p, int channels = 3) const {
     int m = 0;
-    for (int c = 0; c < 3; ++c) m = std::max(m, std::abs(int(rgba[p * 4 + c]) - int(o.rgba[p * 4 + c])));
+    for (int c = 0; c < channels; ++c)
+      m = std::max(m, std::abs(int(rgba[p * 4 + c]) - int(o.rgba[p * 4 + c])));
     return m;
   }
 };
@@ -61,7 +62,7 @@ int main(int argc, char** argv) {
     int maxDiff = 0;
     size_t count = 0;
     for (size_t p = 0; p < size_t(a.w) * a.h; ++p) {
-      const int d = a.diff(b, p);
+      const int d = a.diff(b, p, 4);  // RGBA: `none` passes alpha through too
       maxDiff = std::max(maxDiff, d);
       count += d > 0;
     }

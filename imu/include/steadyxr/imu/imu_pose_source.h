@@ -14,6 +14,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -52,14 +53,29 @@ struct ImuStats {
   uint64_t clockResets = 0;
   bool running = false;
   std::string lastError;
+  uint64_t streamEnds = 0;  // the transport ended or failed (each one logged)
+  uint64_t reconnects = 0;  // reopened after an end
 };
+
+// Reopens a live source after its stream ended (a device unplugged, the emulator restarted).
+using ReopenTransport = std::function<std::unique_ptr<ReportTransport>(std::string* error)>;
+// Where the reader's lines go (the layer's logger); empty: nowhere.
+using ImuLog = std::function<void(const std::string& line)>;
+
+// Reconnect attempts after a live stream ends, each after the next of these delays (doubling
+// from 100 ms: a replugged USB device re-enumerates in well under a second; ~6 s in all), then
+// the reader gives up and stateAt() has no new data (the layer falls back to runtime poses).
+inline constexpr std::chrono::milliseconds kReconnectDelays[] = {
+    std::chrono::milliseconds(100), std::chrono::milliseconds(200),  std::chrono::milliseconds(400),
+    std::chrono::milliseconds(800), std::chrono::milliseconds(1600), std::chrono::milliseconds(3200)};
 
 int64_t monotonicNowNs();
 
 class ImuPoseSource final : public PoseSource {
  public:
   ImuPoseSource(std::unique_ptr<ReportTransport> transport, TimeDomain domain,
-                const FusionParams& fusion = {}, const PoseHistory::Params& history = {});
+                const FusionParams& fusion = {}, const PoseHistory::Params& history = {},
+                ReopenTransport reopen = {}, ImuLog log = {});
   ~ImuPoseSource() override;  // stops and joins the reader thread
   ImuPoseSource(const ImuPoseSource&) = delete;
   ImuPoseSource& operator=(const ImuPoseSource&) = delete;
@@ -73,8 +89,12 @@ class ImuPoseSource final : public PoseSource {
 
  private:
   void run();
+  bool reconnect();  // bounded retry of reopen_; true with transport_ replaced
+  void sleepUnlessStopped(std::chrono::milliseconds d) const;
 
   std::unique_ptr<ReportTransport> transport_;
+  ReopenTransport reopen_;
+  ImuLog log_;
   TimeDomain domain_;
   FusionParams fusionParams_;
   PoseHistory history_;
@@ -87,6 +107,9 @@ class ImuPoseSource final : public PoseSource {
 };
 
 // Parses a spec (see the top of this file) and starts reading. nullptr and *error on failure.
-std::unique_ptr<ImuPoseSource> openImuPoseSource(const std::string& spec, std::string* error);
+// Live sources (all but file:) reconnect after their stream ends (kReconnectDelays); the end,
+// each reconnect and giving up are one line each to `log`.
+std::unique_ptr<ImuPoseSource> openImuPoseSource(const std::string& spec, std::string* error,
+                                                 ImuLog log = {});
 
 }  // namespace steadyxr::imu
