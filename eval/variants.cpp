@@ -20,8 +20,8 @@ std::vector<std::string> defaultMethods(bool sweeps) {
   m.push_back("oracle");
   if (sweeps) {
     for (const char* s : {"hmtaa@hmax=10", "hmtaa@hmax=50", "hmtaa@wmin=0.15", "hmtaa@wmin=0.5",
-                          "taa@alpha=0.05", "taa@alpha=0.2", "default@amin=0.02", "default@amin=0.15",
-                          "default@beta=0.7", "default@catmull=1"}) {
+                          "taa@alpha=0.05", "taa@alpha=0.2", "default@floor=0.125", "default@floor=0.03125",
+                          "default@blur=0.5", "default@footprint=0.0625", "default@catmull=1"}) {
       m.push_back(s);
     }
   }
