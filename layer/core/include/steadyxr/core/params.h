@@ -23,8 +23,8 @@ enum class TemporalMethod : uint8_t {
 // The shipped default temporal method: decided by the evaluation (eval/), one line to change.
 inline constexpr TemporalMethod kDefaultTemporalMethod = TemporalMethod::Steady;
 // Whether the default adds the stereo pass. Off: on the corpus (README, the default) steady+stereo
-// had a higher mean RMSE (74.0 % of none's against 71.6 %) and a higher per-pixel stereo error
-// (81.0 % of none's against 78.5 %) than steady alone, at about 1.4 times the cost.
+// had a higher mean RMSE (71.7 % of none's against 69.4 %) and a higher per-pixel stereo error
+// (80.2 % of none's against 77.6 %) than steady alone, at about 1.4 times the cost.
 inline constexpr bool kDefaultStereo = false;
 
 // How the temporal passes resample the reprojected history.
