@@ -159,7 +159,7 @@ std::vector<Scenario> corpusScenarios(const Options& o) {
         s.pictureClass = pictureCls;
         s.depthGiven = depth;
         s.startSec = start;
-        s.sweeps = false;
+        s.sweeps = !o.methods.empty();  // sweeps named with --methods (ablations) run everywhere
         s.label =
             scene + "-" + motion + (scene == "imageviewer" ? "-" + picture : "") + (depth ? "" : "-nodepth");
         if (motion == "fastturn")

@@ -9,19 +9,19 @@ namespace steadyxr::eval {
 
 std::vector<std::string> defaultMethods(bool sweeps) {
   std::vector<std::string> m;
-  for (const char* base : {"none", "fxaa", "msaa2", "msaa4", "taa", "hmtaa", "vtaa", "hybrid"}) {
+  for (const char* base : {"none", "fxaa", "msaa2", "msaa4", "taa", "hmtaa", "vtaa", "hybrid", "steady"}) {
     m.push_back(base);
     m.push_back(std::string(base) + "+stereo");
   }
   m.push_back("default");
   // Jittered variants of the temporal methods: seed 001's TAA is jittered, as every real TAA.
-  for (const char* base : {"taa", "hmtaa", "vtaa", "hybrid", "default"})
+  for (const char* base : {"taa", "hmtaa", "vtaa", "hybrid", "steady", "default"})
     m.push_back(std::string(base) + "+jitter");
   m.push_back("oracle");
   if (sweeps) {
     for (const char* s : {"hmtaa@hmax=10", "hmtaa@hmax=50", "hmtaa@wmin=0.15", "hmtaa@wmin=0.5",
-                          "taa@alpha=0.05", "taa@alpha=0.2", "default@amin=0.02", "default@amin=0.15",
-                          "default@beta=0.7", "default@catmull=1"}) {
+                          "taa@alpha=0.05", "taa@alpha=0.2", "default@floor=0.125", "default@floor=0.03125",
+                          "default@blur=0.5", "default@footprint=0.0625", "default@catmull=1"}) {
       m.push_back(s);
     }
   }
@@ -108,8 +108,25 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->sampleD[0] = value;
     else if (key == "catmull")
       params->historyFilter = value != 0.0f ? core::HistoryFilter::CatmullRom : core::HistoryFilter::Bilinear;
+    else if (key == "floor")  // steady's ablation switches and constants (core::Params)
+      params->steadyAlphaFloor = value;
+    else if (key == "conf")
+      params->steadyConfidence = value != 0.0f;
+    else if (key == "reject")
+      params->steadyClipRejects = value != 0.0f;
+    else if (key == "blur")
+      params->steadyBlurBudgetPx2 = value;
+    else if (key == "footprint")
+      params->steadyFootprint = value;
+    else if (key == "near")
+      params->steadyNearestDepthM = value;
+    else if (key == "interp")
+      params->steadyInterpolated = value != 0.0f;
     else {
-      *error = "unknown parameter '" + key + "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d, catmull)";
+      *error = "unknown parameter '" + key +
+               "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d, catmull, floor, conf, reject, blur, "
+               "footprint, near, "
+               "interp)";
       return false;
     }
     v->sweep = true;

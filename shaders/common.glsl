@@ -14,7 +14,7 @@ layout(local_size_x_id = 11, local_size_y_id = 12) in;
 
 // Per-pipeline switches as specialisation constants: llvmpipe runs both sides of every branch
 // under an execution mask, so a uniform switch still costs every path; constants fold away.
-layout(constant_id = 0) const int kMode = 0;          // temporal: 0 taa, 1 hmtaa, 2 vtaa, 3 hybrid
+layout(constant_id = 0) const int kMode = 0;          // temporal: 0 taa, 1 hmtaa, 2 vtaa, 3 hybrid, 4 steady
 layout(constant_id = 1) const int kSampleCount = 1;   // hmtaa/hybrid past samples (1..4)
 layout(constant_id = 2) const bool kWriteOut = true;  // write uOut
 layout(constant_id = 3) const bool kWriteHist = false;
@@ -34,6 +34,10 @@ layout(set = 0, binding = 4, rgba16f) uniform writeonly image2D uHistOut;
 layout(set = 0, binding = 5, OUT_FORMAT) uniform writeonly image2D uOut;
 
 // Must match PassUniforms in filter.cpp (std140).
+// This eye's input as the app submitted it: the alpha of every output (alphaOf). The history's
+// alpha is the temporal method's own (steady: its sample count).
+layout(set = 0, binding = 7) uniform sampler2D uAppInput;
+
 layout(set = 0, binding = 6, std140) uniform PassParams {
   mat4 reproj[4];     // (x, y, 1, 1/z) of this pixel -> homogeneous pixel coords in src1's rect
   vec4 sampleW;       // W(d_i), seed 003 Eq. 2
@@ -44,12 +48,15 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   ivec4 depthOffset;  // xy depth0 rect offset, zw depth1 rect offset
   vec4 depth0;        // 1/nearZ, 1/farZ - 1/nearZ, minDepth, 1/(maxDepth-minDepth)
   vec4 depth1;
-  vec4 w0;            // taaAlpha, clipGamma, alphaMin, shape S of Eq. 4 (1 = h > h_max)
-  vec4 w1;            // wMin, wLowerBound, depthTolerance, fallback 1/z (no depth)
+  vec4 w0;            // taaAlpha, clipGamma, alphaMin, shape S of Eq. 4 (1 = h > h_max); steady:
+                      // alpha floor in place of alphaMin, confidence (0/1) in place of S
+  vec4 w1;            // wMin, wLowerBound, depthTolerance, fallback 1/z (no depth); steady:
+                      // clipRejects (0/1), 1/blur budget (0 = off) in place of wMin, wLowerBound
   ivec4 flags;        // (mode), (sampleCount), historyValid, (writeOut); () = spec constant now
   ivec4 flags2;       // (encodeSrgb), (swapRB), (writeHist), (hasDepth)
-  ivec4 outOffset;    // xy where pixel (0,0) goes in uOut
-  vec4 jitter;        // xy: src0's grid offset in pixels (its pixel c - jitter holds our pixel c)
+  ivec4 outOffset;    // xy where pixel (0,0) goes in uOut; zw: uAppInput's rect offset
+  vec4 jitter;        // xy: src0's grid offset in pixels (its pixel c - jitter holds our pixel c);
+                      // z (steady): the reprojection's parallax spread without depth, px^2
 } P;
 
 vec3 sanitize(vec3 c) {
@@ -135,18 +142,20 @@ void windowSums(ivec2 o, bool withCross, out vec3 s1, out vec3 s2, out vec3 sx) 
   }
 
 // Bilinear sample of src1 at continuous pixel coords q (pixel centres at +0.5) of its rect.
-vec3 sampleSrc1(vec2 q) {
+// The alpha comes along unsanitised: only the history's (our own, finite) alpha is ever used.
+vec4 sampleSrc1Rgba(vec2 q) {
   q = clamp(q, vec2(0.5), vec2(P.src1Rect.zw) - 0.5);
-  vec3 c = textureLod(uSrc1, (vec2(P.src1Rect.xy) + q) * P.src1InvExtent.xy, 0.0).rgb;
-  return (kCleanSrc & 2) != 0 ? c : sanitize(c);
+  vec4 c = textureLod(uSrc1, (vec2(P.src1Rect.xy) + q) * P.src1InvExtent.xy, 0.0);
+  return vec4((kCleanSrc & 2) != 0 ? c.rgb : sanitize(c.rgb), c.a);
 }
+vec3 sampleSrc1(vec2 q) { return sampleSrc1Rgba(q).rgb; }
 
 // Catmull-Rom sample of src1 (the history) at continuous pixel coords q, from five bilinear taps
 // (the four corner taps, whose weights are tiny, dropped and the rest renormalised; Jimenez 2016,
 // as Bevy's and INSIDE's TAA do): bilinear resampling blurs the history a little on every frame
 // of sub-pixel head tremor, and the blur accumulates; Catmull-Rom keeps it sharp. Its negative
 // lobes can overshoot, so the result is clamped at 0 (the clip that follows bounds the rest).
-vec3 sampleSrc1CatmullRom(vec2 q) {
+vec4 sampleSrc1CatmullRom(vec2 q) {
   q = clamp(q, vec2(0.5), vec2(P.src1Rect.zw) - 0.5);
   vec2 pos = q - 0.5;  // texel centres at integers
   vec2 c = floor(pos);
@@ -159,17 +168,19 @@ vec3 sampleSrc1CatmullRom(vec2 q) {
   vec2 t0 = (vec2(P.src1Rect.xy) + c - 0.5) * P.src1InvExtent.xy;  // centre of texel c - 1
   vec2 t3 = (vec2(P.src1Rect.xy) + c + 2.5) * P.src1InvExtent.xy;  // centre of texel c + 2
   vec2 t12 = (vec2(P.src1Rect.xy) + c + 0.5 + w2 / w12) * P.src1InvExtent.xy;
-  vec3 r = textureLod(uSrc1, vec2(t12.x, t0.y), 0.0).rgb * (w12.x * w0.y) +
-           textureLod(uSrc1, vec2(t0.x, t12.y), 0.0).rgb * (w0.x * w12.y) +
-           textureLod(uSrc1, t12, 0.0).rgb * (w12.x * w12.y) +
-           textureLod(uSrc1, vec2(t3.x, t12.y), 0.0).rgb * (w3.x * w12.y) +
-           textureLod(uSrc1, vec2(t12.x, t3.y), 0.0).rgb * (w12.x * w3.y);
+  vec4 r = textureLod(uSrc1, vec2(t12.x, t0.y), 0.0) * (w12.x * w0.y) +
+           textureLod(uSrc1, vec2(t0.x, t12.y), 0.0) * (w0.x * w12.y) +
+           textureLod(uSrc1, t12, 0.0) * (w12.x * w12.y) +
+           textureLod(uSrc1, vec2(t3.x, t12.y), 0.0) * (w3.x * w12.y) +
+           textureLod(uSrc1, vec2(t12.x, t3.y), 0.0) * (w12.x * w3.y);
   float wsum = w12.x * w0.y + w0.x * w12.y + w12.x * w12.y + w3.x * w12.y + w12.x * w3.y;
-  r = max(r / wsum, vec3(0.0));
-  return (kCleanSrc & 2) != 0 ? r : sanitize(r);
+  r = max(r / wsum, vec4(0.0));
+  return vec4((kCleanSrc & 2) != 0 ? r.rgb : sanitize(r.rgb), r.a);
 }
 
-vec3 sampleHistory(vec2 q) { return kCatmullRom ? sampleSrc1CatmullRom(q) : sampleSrc1(q); }
+// The history at q, its alpha included (steady keeps its sample count there).
+vec4 sampleHistoryRgba(vec2 q) { return kCatmullRom ? sampleSrc1CatmullRom(q) : sampleSrc1Rgba(q); }
+vec3 sampleHistory(vec2 q) { return sampleHistoryRgba(q).rgb; }
 
 // Variance clipping: clips h towards the box centre mn onto the box mn +- ext, given ext^2. The
 // largest |h - mn| / ext decides, so squares do without the square roots of sigma.
@@ -192,13 +203,15 @@ float linearToSrgb1(float c) {
 // Alpha is carried through, never filtered: the filters remove colour aliasing, and a
 // projection layer's alpha is a blend/passthrough mask, not colour. Averaged over time or taken
 // from the other eye it would smear the mask's edges or leak one eye's mask into the other, and a
-// layer's alpha must reach the compositor exactly as the app wrote it. So every pass outputs
-// src0's alpha at the same pixel: the app's input, or in the stereo pass after a temporal/FXAA
-// pass this frame's history, whose alpha is the input's (writeHistory). 8-bit and half-float
-// alpha survive the half-float history exactly. (Unpremultiplied layers: layer/xr/README.md.)
-float alphaOf(ivec2 p) { return texelFetch(uSrc0, P.src0Rect.xy + clamp(p, ivec2(0), P.src0Rect.zw - 1), 0).a; }
+// layer's alpha must reach the compositor exactly as the app wrote it. So every pass outputs the
+// app's input alpha at the same pixel (uAppInput: also in the stereo pass, whose src0 is then
+// this frame's history). (Unpremultiplied layers: layer/xr/README.md.)
+float alphaOf(ivec2 p) {
+  return texelFetch(uAppInput, P.outOffset.zw + clamp(p, ivec2(0), P.src0Rect.zw - 1), 0).a;
+}
 
-void writeHistory(ivec2 p, vec3 c) { imageStore(uHistOut, p, vec4(c, alphaOf(p))); }
+// After fxaa the history is only the stereo pass's src0; its alpha goes unread.
+void writeHistory(ivec2 p, vec3 c) { imageStore(uHistOut, p, vec4(c, 1.0)); }
 
 // o: linear RGBA; encoded for an sRGB target (alpha is linear in every format, never encoded).
 void storeOutput(ivec2 p, vec4 o) {

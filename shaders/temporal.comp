@@ -1,13 +1,18 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Temporal passes: taa (mode 0), hmtaa (1), vtaa (2), hybrid (3). Writes the new history
-// (RGBA16F, linear light) and, when no stereo pass follows, the output.
+// Temporal passes: taa (mode 0), hmtaa (1), vtaa (2), hybrid (3), steady (4). Writes the new
+// history (RGBA16F, linear light; steady keeps its per-pixel sample count in the alpha) and, when
+// no stereo pass follows, the output.
 #include "common.glsl"
 
 const int kTaa = 0;
 const int kHmtaa = 1;
 const int kVtaa = 2;
 const int kHybrid = 3;
+const int kSteady = 4;
+// Smallest clip extent, as a variance: half an 8-bit step squared. A flat 3x3 has sigma = 0, and
+// a history off by less than the input's own quantisation is no evidence of a wrong history.
+const float kQuantVar = (0.5 / 255.0) * (0.5 / 255.0);
 
 vec3 toYCoCg(vec3 c) {
   return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b, -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
@@ -69,7 +74,7 @@ void processPixel(ivec2 p, ivec2 o) {
   vec3 ymn = vec3(0.0), yvar = vec3(0.0);  // hybrid: YCoCg moments for the history clip
   vec3 fc = vec3(0.0);                     // hybrid: the current frame through the footprint filter
   if (neighbourhood) {
-    const bool yCoCg = mode == kTaa || mode == kHybrid;
+    const bool yCoCg = mode == kTaa || mode == kHybrid || mode == kSteady;
     vec3 s1, s2, sx;
     windowSums(o, yCoCg, s1, s2, sx);
     mn = s1 * (1.0 / 9.0);
@@ -82,16 +87,46 @@ void processPixel(ivec2 p, ivec2 o) {
       mn = ymn;
       var = yvar;
     }
-    if (mode == kHybrid) {
-      // [1/16, 7/8, 1/16]^2: centre, edge neighbours, corners (the rest of the 3x3 sum).
+    if (mode == kHybrid || mode == kSteady) {
+      // [k, 1 - 2k, k]^2: centre, edge neighbours, corners (the rest of the 3x3 sum). Hybrid:
+      // k = 1/16. Steady: k = w1.z (Params::steadyFootprint, 1/24: the second moment of the
+      // pixel's box footprint; 0 = off).
+      const float k = mode == kHybrid ? 1.0 / 16.0 : P.w1.z;
       vec3 edges = blockAt(o, -1, 0) + blockAt(o, 1, 0) + blockAt(o, 0, -1) + blockAt(o, 0, 1);
-      fc = 0.765625 * cur + 0.0546875 * edges + 0.00390625 * (s1 - cur - edges);
+      fc = (1.0 - 2.0 * k) * (1.0 - 2.0 * k) * cur + k * (1.0 - 2.0 * k) * edges + k * k * (s1 - cur - edges);
     }
   }
 
   vec3 result = cur;
+  float count = 1.0;  // the history's alpha: steady's sample count, 1 for the other modes
   const bool historyValid = P.flags.z != 0;
-  if (mode == kTaa) {
+  if (mode == kSteady) {
+    // Steady (README, method): the history reprojected through the exact previous render pose
+    // (reproj[0]); clipped to the YCoCg box mean +- gamma*sigma of the current 3x3; blended with
+    // alpha = max(1/(n+1), floor), n its sample count, divided by t^2 when the clip moved it t
+    // sigma (t > 1), and alpha raised so that the resampling blur of the history stays bounded.
+    vec2 q;
+    float iz;
+    const bool confirmed = reproject(P.reproj[0], pc, invZ, q, iz) && historyValid;
+    vec4 hs = sampleHistoryRgba(q);  // q is clamped into the image inside
+    vec3 d = toYCoCg(hs.rgb) - ymn;
+    vec3 t2v = d * d / (P.w0.y * P.w0.y * yvar + kQuantVar);
+    float t2 = max(t2v.x, max(t2v.y, t2v.z));
+    vec3 h = t2 > 1.0 ? ymn + d * inversesqrt(t2) : ymn + d;
+    const float cap = 1.0 / P.w0.z;
+    float n = confirmed ? clamp(hs.a, 0.0, cap) : 0.0;
+    n *= t2 > 1.0 ? mix(1.0, 1.0 / t2, P.w1.x) : 1.0;
+    float a = max(1.0 / (n + 1.0), P.w0.z);
+    vec2 f = fract(q - 0.5);                // bilinear tap offset within the texel
+    float blur = (dot(f, 1.0 - f) + P.jitter.z) * P.w1.y;  // added blur variance / budget
+    a = max(a, blur / (blur + 1.0));        // steady-state blur (1 - a) / a * v <= budget
+    a = P.w0.w > 0.5 ? a : P.w0.x;          // ablation: constant alpha
+    a = confirmed ? a : 1.0;
+    cur = fc;
+    // Select, not mix, when unconfirmed: a never-written history may hold NaN (and max(NaN, 0) is 0).
+    result = confirmed ? max(fromYCoCg(mix(h, toYCoCg(cur), a)), vec3(0.0)) : cur;
+    count = min(1.0 / a, cap);  // the samples the blend holds: n + 1, fewer where alpha was raised
+  } else if (mode == kTaa) {
     vec2 q;
     float iz;
     bool inside = reproject(P.reproj[0], pc, invZ, q, iz);
@@ -125,10 +160,14 @@ void processPixel(ivec2 p, ivec2 o) {
     }
     result = hasPast ? (a >= 1.0 ? cur : mix(past, cur, a)) : result;
   }
-  if (any(isnan(result)) || any(isinf(result))) result = cur;
+  if (any(isnan(result)) || any(isinf(result))) {
+    result = cur;
+    count = 1.0;
+  }
   result = clamp(result, vec3(0.0), vec3(65000.0));  // stays finite in half precision
   if (inRange) {
-    if (kWriteHist) writeHistory(p, result);
+    // The history's alpha is steady's sample count; the output's alpha is the app's (alphaOf).
+    if (kWriteHist) imageStore(uHistOut, p, vec4(result, count));
     if (kWriteOut) writeOutput(p, result);
   }
 }
@@ -136,6 +175,6 @@ void processPixel(ivec2 p, ivec2 o) {
 void main() {
   ivec2 base = ivec2(gl_GlobalInvocationID.xy) * ivec2(kBlockW, kBlockH);
   if (any(greaterThanEqual(base, P.src0Rect.zw))) return;
-  if (kMode != kHmtaa) loadBlock(base, kMode == kTaa || kMode == kHybrid);
+  if (kMode != kHmtaa) loadBlock(base, kMode == kTaa || kMode == kHybrid || kMode == kSteady);
   PROCESS_BLOCK(base);
 }

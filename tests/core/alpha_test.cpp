@@ -150,8 +150,8 @@ TEST_F(AlphaTest, EveryMethodOutputsTheInputAlphaExactly) {
       {VK_FORMAT_R8G8B8A8_SRGB, VK_FORMAT_B8G8R8A8_SRGB, 0, false},  // intermediate + swizzled copy
       {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, false},
   };
-  for (const char* m :
-       {"none", "fxaa", "taa", "hmtaa", "vtaa", "hybrid", "stereo", "taa+stereo", "fxaa+stereo", "default"})
+  for (const char* m : {"none", "fxaa", "taa", "hmtaa", "vtaa", "hybrid", "steady", "steady+stereo", "stereo",
+                        "taa+stereo", "fxaa+stereo", "default"})
     for (const FormatCase& fc : cases)
       EXPECT_EQ(mismatches(m, fc, 3, false), 0) << m << " in " << fc.in << " out " << fc.out;
 }

@@ -347,6 +347,106 @@ INSTANTIATE_TEST_SUITE_P(Passes, TemporalReference,
                            return s;
                          });
 
+// The steady method against its CPU reference, chained over four frames: the sample count
+// builds up in the history's alpha, a patch that moves makes clips lower it, the head rotates and
+// translates by sub-pixel amounts, and the frames carry noise.
+class SteadyReference : public CoreTest, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(SteadyReference, MatchesCpuReference) {
+  const std::string variant = GetParam();
+  const uint32_t W = 64, H = 64;
+  Params p = *applyMethodName("steady");
+  if (variant == "catmull") p.historyFilter = HistoryFilter::CatmullRom;
+  if (variant == "interpolated") p.steadyInterpolated = true;
+  if (variant == "rejectnoblur") {
+    p.steadyClipRejects = true;
+    p.steadyBlurBudgetPx2 = 0.0f;
+  }
+  if (variant == "constant") p.steadyConfidence = false;
+  const bool withDepth = variant == "depth";
+  auto f = makeFilter("steady", p);
+  ASSERT_TRUE(f);
+  Rig rig(W, H);
+  std::array<HostImage, 2> hist;
+  std::array<RefView, 2> prev;
+  for (int k = 0; k < 4; ++k) {
+    Frame fr;
+    fr.color = {pattern(W, H, 20 + k, 0.05f), pattern(W, H, 30 + k, 0.05f)};
+    for (auto& img : fr.color)  // a patch moving 3 px a frame over the static pattern
+      for (uint32_t y = 40; y < 50; ++y)
+        for (uint32_t x = 8u + 3u * uint32_t(k); x < 18u + 3u * uint32_t(k); ++x)
+          img.at(x, y) = glm::vec4(1.0f, 0.2f, 0.6f, 1.0f);
+    const float fk = float(k);
+    fr.views = {eye(0.35f * fk, -0.2f * fk, {0.004f * fk, 0, 0.002f * fk}),
+                eye(0.35f * fk, -0.2f * fk, {0.064f + 0.004f * fk, 0, 0.002f * fk})};
+    for (int e = 0; e < 2 && withDepth; ++e) {
+      fr.depth[e] = HostImage(W, H);
+      for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+          const float z = x < W / 2 ? 0.5f : 3.0f;  // metres: a near half and a far half
+          fr.depth[e].at(x, y).r = (1.0f / z - 1.0f / 0.1f) / (1.0f / 100.0f - 1.0f / 0.1f);
+        }
+    }
+    const auto out = rig.run(*f, fr);
+    for (int e = 0; e < 2; ++e) {
+      const HostImage want =
+          toHalf(test::steadyRef(p, toHalf(fr.color[e]), hist[e], k > 0, prev[e], fr.views[e],
+                                 withDepth ? &fr.depth[e] : nullptr, 0.1f, 100.0f));
+      const Diff d = compare(out[e], want);
+      // Tolerance as in TemporalReference (8 sub-texel bits of GPU bilinear weights, half
+      // precision), over a chain of frames; few pixels sit on a clip decision boundary.
+      EXPECT_LE(d.meanAbs, 2e-3f) << variant << " frame " << k << " eye " << e;
+      EXPECT_LE(d.maxAbs, 0.05f) << variant << " frame " << k << " eye " << e;
+      if (k > 0) {
+        EXPECT_GT(compare(out[e], fr.color[e]).meanAbs, 5e-3f) << variant << ": the history is used";
+      }
+      hist[e] = want;
+      prev[e] = fr.views[e];
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
+                         ::testing::Values("default", "catmull", "interpolated", "rejectnoblur", "constant",
+                                           "depth"));
+
+// Confidence-weighted accumulation: with a static head and independent noise on every frame, the
+// weight 1/(n+1) averages N frames equally (noise sigma^2 / N) until the floor, where an
+// exponential history of weight a keeps a / (2 - a) of it (1/31 at a = 1/16).
+TEST_F(CoreTest, SteadyNoiseFallsLikeOneOverNToItsFloor) {
+  const uint32_t W = 48, H = 48;
+  Params p;
+  // The accumulation alone: the footprint filter lowers white noise by itself, and the clip pulls
+  // unlucky pixels towards their neighbours' mean (both measured below 1/N).
+  p.steadyFootprint = 0.0f;
+  p.taaClipGamma = 1e3f;
+  auto f = makeFilter("steady", p);
+  ASSERT_TRUE(f);
+  Rig rig(W, H);
+  std::mt19937 rng(42);
+  std::normal_distribution<float> g(0.0f, 0.1f);
+  std::vector<double> mse;
+  for (int n = 1; n <= 64; ++n) {
+    HostImage img(W, H);
+    for (auto& px : img.px) px = glm::vec4(0.5f + g(rng), 0.5f + g(rng), 0.5f + g(rng), 1.0f);
+    const auto out = rig.run(*f, Frame{{img, img}, {eye(0, 0), eye(0, 0)}}, 1);
+    double s = 0;
+    for (const auto& px : out[0].px)
+      for (int k = 0; k < 3; ++k) s += (px[k] - 0.5) * (px[k] - 0.5);
+    mse.push_back(s / (3.0 * W * H));
+  }
+  const double sigma2 = 0.01;
+  for (int n : {2, 4, 8, 16}) {
+    const double ratio = mse[size_t(n - 1)] / (sigma2 / n);
+    EXPECT_LT(ratio, 1.15) << "N = " << n << " mse " << mse[size_t(n - 1)];
+    EXPECT_GT(ratio, 0.85) << "N = " << n << " mse " << mse[size_t(n - 1)];
+  }
+  const double a = Params{}.steadyAlphaFloor;
+  const double floorRatio = mse[63] / (sigma2 * a / (2.0 - a));
+  EXPECT_LT(floorRatio, 1.25) << "mse at N = 64: " << mse[63];
+  EXPECT_GT(floorRatio, 0.8) << "mse at N = 64: " << mse[63] << " (1/N without the floor: 0.48)";
+}
+
 namespace {
 // Pixels of `a` farther than `tolerance` from `b` in any channel.
 int pixelsOff(const HostImage& a, const HostImage& b, float tolerance) {
@@ -717,10 +817,15 @@ TEST_F(CoreTest, ConstantColourStaysConstantUnderEveryPass) {
   }
 }
 
-TEST_F(CoreTest, VtaaNoiseConvergesLikeOneOverN) {
+// Seed 002's alpha' does not fall like 1/N: Eq. 11's estimate of E[(X - Y)^2] contains the
+// variance of the 3x3 mean (sigma^2 / 9) however well X has converged, so with sigma_Y^2 ~ 8/9
+// sigma^2 (Eq. 10, population) alpha' levels off near 1 - (8/9) / (8/9 + 1/9) = 1/9. The noise
+// levels off too, higher than a constant 1/9 would keep (1/17 of sigma^2): alpha' fluctuates
+// with the noisy 3x3 estimates. Measured: sigma^2 / 9.3 at N = 32 and at N = 64.
+TEST_F(CoreTest, VtaaNoiseLevelsOffNearOneNinth) {
   const uint32_t W = 48, H = 48;
   Params p = *applyMethodName("vtaa");
-  p.vtaaAlphaMin = 0.0f;  // pure Eq. 4: no floor, so the 1/N behaviour is visible
+  p.vtaaAlphaMin = 0.0f;  // pure Eq. 4: no floor, so what levels off is Eq. 4's own
   std::string err;
   auto f = Filter::create(*gCtx, p, &err);
   ASSERT_TRUE(f) << err;
@@ -728,7 +833,7 @@ TEST_F(CoreTest, VtaaNoiseConvergesLikeOneOverN) {
   std::mt19937 rng(42);
   std::normal_distribution<float> g(0.0f, 0.1f);
   std::vector<double> mse;
-  for (int n = 1; n <= 16; ++n) {
+  for (int n = 1; n <= 64; ++n) {
     HostImage img(W, H);
     for (auto& px : img.px) px = glm::vec4(0.5f + g(rng), 0.5f + g(rng), 0.5f + g(rng), 1.0f);
     const auto out = rig.run(*f, Frame{{img, img}, {eye(0, 0), eye(0, 0)}}, 1);
@@ -739,12 +844,21 @@ TEST_F(CoreTest, VtaaNoiseConvergesLikeOneOverN) {
   }
   const double sigma2 = 0.01;
   EXPECT_NEAR(mse[0], sigma2, 0.15 * sigma2);
-  for (int n : {2, 4, 8, 16}) {
-    // progressive averaging gives sigma^2 / N; the 3x3 estimators are noisy, allow a factor 2
+  // Early on, while (X - mean)^2 dominates, it averages roughly like 1/N ...
+  for (int n : {2, 4}) {
     const double ratio = mse[size_t(n - 1)] / (sigma2 / n);
     EXPECT_LT(ratio, 2.0) << "N = " << n << " mse " << mse[size_t(n - 1)];
     EXPECT_GT(ratio, 0.5) << "N = " << n << " mse " << mse[size_t(n - 1)];
   }
+  // ... then it stops improving: N = 32 and 64 sit at the same level, near sigma^2 / 9, far
+  // above the sigma^2 / 64 of 1/N averaging.
+  const double level = sigma2 / 9.0;
+  for (int n : {32, 64}) {
+    EXPECT_LT(mse[size_t(n - 1)], 1.5 * level) << "N = " << n;
+    EXPECT_GT(mse[size_t(n - 1)], 0.67 * level) << "N = " << n;
+  }
+  EXPECT_GT(mse[63], 2.0 * sigma2 / 64.0) << "not 1/N";
+  EXPECT_NEAR(mse[63] / mse[31], 1.0, 0.2) << "levelled off";
 }
 
 TEST_F(CoreTest, HeadRotationMovesFeatureByPredictedPixels) {
@@ -810,12 +924,18 @@ TEST_F(CoreTest, HmtaaAboveHMaxOutputsCurrentFrameExactly) {
 }
 
 TEST_F(CoreTest, IdenticalEyesAreUnchangedByStereo) {
-  for (const char* m : {"stereo", "default"}) {
+  // "stereo" alone against the input; "steady+stereo" against its own temporal pass without
+  // stereo (steady's first frame is the current frame through its footprint filter).
+  for (const auto& [m, without] :
+       {std::pair<std::string, std::string>{"stereo", "none"}, {"steady+stereo", "steady"}}) {
     auto f = makeFilter(m);
+    auto g = makeFilter(without);
     Rig rig(48, 40, VK_FORMAT_R8G8B8A8_SRGB, VK_FORMAT_R8G8B8A8_SRGB, 0);
     const HostImage img = pattern(48, 40, 13, 0.1f);
-    const auto out = rig.run(*f, Frame{{img, img}, {eye(0.3f, 0.1f), eye(0.3f, 0.1f)}});
-    for (int e = 0; e < 2; ++e) EXPECT_LE(compare(out[e], img).maxAbs, 0.01f) << m;
+    const Frame fr{{img, img}, {eye(0.3f, 0.1f), eye(0.3f, 0.1f)}};
+    const auto out = rig.run(*f, fr);
+    const auto want = rig.run(*g, fr);
+    for (int e = 0; e < 2; ++e) EXPECT_LE(compare(out[e], want[e]).maxAbs, 0.01f) << m;
   }
 }
 

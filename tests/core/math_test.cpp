@@ -127,7 +127,7 @@ TEST(Params, MethodNamesRoundTrip) {
   const auto def = applyMethodName("default");
   ASSERT_TRUE(def);
   EXPECT_EQ(def->temporal, kDefaultTemporalMethod);
-  EXPECT_TRUE(def->stereo);
+  EXPECT_EQ(def->stereo, kDefaultStereo);
   EXPECT_FALSE(applyMethodName("bogus"));
   EXPECT_FALSE(applyMethodName("+stereo"));
   EXPECT_EQ(parseTemporalMethod("vtaa"), TemporalMethod::Vtaa);

@@ -28,6 +28,12 @@ HostImage temporalRef(core::TemporalMethod m, const core::Params& p, const HostI
                       float headSpeed, const HostImage* depth = nullptr, float nearZ = 0.1f,
                       float farZ = 100.0f);
 
+// One step of the steady method (steady_reference.cpp). The history's alpha holds its sample
+// count; so does the returned image's.
+HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage& hist, bool histValid,
+                    const RefView& prev, const RefView& now, const HostImage* depth = nullptr,
+                    float nearZ = 0.1f, float farZ = 100.0f);
+
 HostImage fxaaRef(const HostImage& in);
 
 // Stereo blend of eye `thisEye` with `other` (seed 002 §4.1). Depths optional (D32 values in .r).

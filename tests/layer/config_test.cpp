@@ -120,6 +120,33 @@ TEST(Config, ImuAndDumpKeys) {
   EXPECT_TRUE(mentions(messages, "history_filter", "lanczos"));
 }
 
+TEST(Config, SteadyKeys) {
+  std::vector<std::string> messages;
+  const Config c = resolveConfig(
+      parseConfigText("method = steady+stereo\nsteady_alpha_floor = 0.125\nsteady_blur_budget_px2 = 0.25\n"
+                      "steady_footprint = 0\nsteady_nearest_depth_m = 2\nsteady_confidence = off\n"
+                      "steady_clip_rejects = on\nsteady_interpolated = 1\n",
+                      &messages),
+      "a", envOf({}), &messages);
+  EXPECT_TRUE(messages.empty()) << (messages.empty() ? "" : messages[0]);
+  EXPECT_EQ(c.params.temporal, steadyxr::core::TemporalMethod::Steady);
+  EXPECT_FLOAT_EQ(c.params.steadyAlphaFloor, 0.125f);
+  EXPECT_FLOAT_EQ(c.params.steadyBlurBudgetPx2, 0.25f);
+  EXPECT_FLOAT_EQ(c.params.steadyFootprint, 0.0f);
+  EXPECT_FLOAT_EQ(c.params.steadyNearestDepthM, 2.0f);
+  EXPECT_FALSE(c.params.steadyConfidence);
+  EXPECT_TRUE(c.params.steadyClipRejects);
+  EXPECT_TRUE(c.params.steadyInterpolated);
+  messages.clear();
+  const Config bad =
+      resolveConfig(parseConfigText("steady_footprint = 0.5\nsteady_confidence = maybe\n", &messages), "a",
+                    envOf({}), &messages);
+  EXPECT_FLOAT_EQ(bad.params.steadyFootprint, steadyxr::core::Params{}.steadyFootprint);
+  EXPECT_TRUE(bad.params.steadyConfidence);
+  EXPECT_TRUE(mentions(messages, "steady_footprint", "0.5"));
+  EXPECT_TRUE(mentions(messages, "steady_confidence", "maybe"));
+}
+
 TEST(Config, FileSearchOrder) {
   const auto none = [](const std::string&) { return false; };
   const auto all = [](const std::string&) { return true; };

@@ -39,18 +39,19 @@ constexpr uint32_t kQueries = 4;
 // GPUs keep the 16x8 measured on the H100.
 constexpr uint32_t kCpuGroupX = 32, kCpuGroupY = 2;
 constexpr uint32_t kGpuGroupX = 16, kGpuGroupY = 8;
-constexpr int kModeTaa = 0, kModeHmtaa = 1, kModeVtaa = 2, kModeHybrid = 3;  // kMode in temporal.comp
+constexpr int kModeTaa = 0, kModeHmtaa = 1, kModeVtaa = 2, kModeHybrid = 3, kModeSteady = 4;  // temporal.comp
 
 enum class Pass : uint32_t { Copy, Temporal, Stereo, Fxaa, Count };
 enum OutFmt : uint32_t { kOut8 = 0, kOut16 = 1 };
 
 // The one descriptor set layout of every pass (common.glsl): 0-3 samplers (src0, src1, depth0,
-// depth1), 4-5 storage images (history out, output), 6 the uniforms.
-constexpr uint32_t kBindings = 7;
+// depth1), 4-5 storage images (history out, output), 6 the uniforms, 7 a sampler (the app's
+// input of this eye, whose alpha every output carries).
+constexpr uint32_t kBindings = 8;
 constexpr VkDescriptorType descriptorType(uint32_t binding) {
-  return binding < 4   ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
-         : binding < 6 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
-                       : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+  return binding < 4 || binding == 7 ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+         : binding < 6               ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+                                     : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
 }
 
 // Mirrors PassParams in shaders/common.glsl (std140: every member is 16-byte aligned).
@@ -284,6 +285,20 @@ struct PipelineSlot {
   }
 };
 
+// Squared spread (px^2) of where the history of a point lies, over the depths between the far
+// plane (what the reprojection assumes without depth) and steadyNearestDepthM, for the eye's
+// translation since the last frame: focal length in px times |translation| times the spread of 1/z.
+float parallaxSpreadPx2(const Params& params, const ViewFrame& v, const EyeState& eye) {
+  const float nearest = params.steadyNearestDepthM;
+  if (!std::isfinite(nearest) || !(nearest > 0.0f)) return 0.0f;
+  const float invFar = std::isinf(params.stereoFarDistanceM) ? 0.0f : 1.0f / params.stereoFarDistanceM;
+  const float spreadInvZ = std::max(1.0f / nearest - invFar, 0.0f);
+  const float focalPx =
+      static_cast<float>(eye.size.width) / (std::tan(v.fov.angleRight) - std::tan(v.fov.angleLeft));
+  const float e = focalPx * glm::length(v.pose.position - eye.prevPose.position) * spreadInvZ;
+  return std::isfinite(e) ? std::min(e * e, 1e6f) : 1e6f;
+}
+
 }  // namespace
 
 struct Filter::Impl {
@@ -452,7 +467,7 @@ bool Filter::Impl::init(std::string* error) {
       return fail(error, "vkCreateFence failed"), false;
     s.fence = Unique<VkFence>(device, fence);
     std::array<VkDescriptorPoolSize, 3> sizes{{
-        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4 * kMaxDispatches},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 5 * kMaxDispatches},
         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * kMaxDispatches},
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kMaxDispatches},
     }};
@@ -672,7 +687,8 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   }
   const TemporalMethod method = params.temporal;
   const bool temporal = method == TemporalMethod::Taa || method == TemporalMethod::Hmtaa ||
-                        method == TemporalMethod::Vtaa || method == TemporalMethod::Hybrid;
+                        method == TemporalMethod::Vtaa || method == TemporalMethod::Hybrid ||
+                        method == TemporalMethod::Steady;
   const bool fxaa = method == TemporalMethod::Fxaa;
   const bool stereo = params.stereo && n == 2;
   const bool stage1 = temporal || fxaa || !stereo;  // `none` + stereo reads the inputs directly
@@ -840,7 +856,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   const uint32_t groupX = cpuDevice ? kCpuGroupX : kGpuGroupX;
   const uint32_t groupY = cpuDevice ? kCpuGroupY : kGpuGroupY;
   auto dispatch = [&](Pass pass, OutFmt fmt, const PassUniforms& u, Binding src0, Binding src1, Binding d0,
-                      Binding d1, VkImageView histOut, VkImageView out) -> bool {
+                      Binding d1, Binding appIn, VkImageView histOut, VkImageView out) -> bool {
     const bool writeOut = u.flags.w != 0;
     const bool blocked = pass != Pass::Fxaa && blockPixels(params, ctx);  // fxaa's reads follow the edges
     const SpecKey spec{
@@ -884,6 +900,8 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
         {VK_NULL_HANDLE, out ? out : (fmt == kOut8 ? dummy8.view.get() : dummy16.view.get()),
          VK_IMAGE_LAYOUT_GENERAL},
         {},  // 6: the uniform buffer
+        {samplerNearest.get(), appIn.view ? appIn.view : dummySampled.view,
+         appIn.view ? appIn.layout : dummySampled.layout},
     }};
     const VkDescriptorBufferInfo bi{s.ubo.get(), offset, sizeof(PassUniforms)};
     std::array<VkWriteDescriptorSet, kBindings> w{};
@@ -925,6 +943,8 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
                        1.0f / static_cast<float>(in.extent.height), 0, 0};
     const ImageRef& out = output.views[e];
     if (!targets[e].scratch) u.outOffset = {out.rect.offset.x, out.rect.offset.y, 0, 0};
+    u.outOffset.z = in.rect.offset.x;  // uAppInput's rect (its size is src0's)
+    u.outOffset.w = in.rect.offset.y;
     u.flags2 = {targets[e].srgb ? 1 : 0, targets[e].swap ? 1 : 0, 0, 0};
     u.w0 = {params.taaAlpha, params.taaClipGamma, params.vtaaAlphaMin, shape};
     u.w1 = {params.wMin, params.wLowerBound, params.stereoDepthTolerance, invFar};
@@ -962,8 +982,10 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
         u.src1Rect = historyRect(e);
         u.src1InvExtent = historyInv(e);
         u.flags.z = eye.valid ? 1 : 0;
-        const bool interpolated = method == TemporalMethod::Hmtaa || method == TemporalMethod::Hybrid;
-        const uint32_t count = interpolated ? params.sampleCount : 1u;
+        const bool steady = method == TemporalMethod::Steady;
+        const bool interpolated = method == TemporalMethod::Hmtaa || method == TemporalMethod::Hybrid ||
+                                  (steady && params.steadyInterpolated);
+        const uint32_t count = interpolated && !steady ? params.sampleCount : 1u;
         std::array<float, Params::kMaxSamples> w{};
         sampleWeightsW(params.sampleD.data(), count, w.data());
         for (uint32_t i = 0; i < count && eye.valid; ++i) {
@@ -975,17 +997,26 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
         const int mode = method == TemporalMethod::Taa     ? kModeTaa
                          : method == TemporalMethod::Hmtaa ? kModeHmtaa
                          : method == TemporalMethod::Vtaa  ? kModeVtaa
+                         : steady                          ? kModeSteady
                                                            : kModeHybrid;
+        if (steady) {  // uniforms of the steady mode (common.glsl, PassParams)
+          u.w0.z = params.steadyAlphaFloor;
+          u.w0.w = params.steadyConfidence ? 1.0f : 0.0f;
+          u.w1.x = params.steadyClipRejects ? 1.0f : 0.0f;
+          u.w1.y = params.steadyBlurBudgetPx2 > 0.0f ? 1.0f / params.steadyBlurBudgetPx2 : 0.0f;
+          u.w1.z = params.steadyFootprint;
+        }
         u.flags.x = mode;
         u.flags.y = static_cast<int>(count);
         u.jitter = {v.jitterPx.x, v.jitterPx.y, 0.0f, 0.0f};
         if (!std::isfinite(u.jitter.x) || !std::isfinite(u.jitter.y) || std::abs(u.jitter.x) > 1.0f ||
             std::abs(u.jitter.y) > 1.0f)
           u.jitter = glm::vec4(0.0f);  // sub-pixel only; anything else is a caller bug: ignore it
-        ok =
-            dispatch(Pass::Temporal, fmt, u, inputs[e], historyBinding(e, prev), depths[e], {}, histOut, out);
+        if (steady && eye.valid) u.jitter.z = hasDepth[e] ? 0.0f : parallaxSpreadPx2(params, v, eye);
+        ok = dispatch(Pass::Temporal, fmt, u, inputs[e], historyBinding(e, prev), depths[e], {}, inputs[e],
+                      histOut, out);
       } else {
-        ok = dispatch(fxaa ? Pass::Fxaa : Pass::Copy, fmt, u, inputs[e], {}, {}, {}, histOut, out);
+        ok = dispatch(fxaa ? Pass::Fxaa : Pass::Copy, fmt, u, inputs[e], {}, {}, {}, inputs[e], histOut, out);
       }
     }
   }
@@ -1030,8 +1061,8 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
       }
       u.w0.z = params.stereoBetaMin;
       u.flags.w = 1;
-      ok = dispatch(Pass::Stereo, targets[e].fmt, u, src0, src1, depths[e], depths[o], VK_NULL_HANDLE,
-                    targets[e].view);
+      ok = dispatch(Pass::Stereo, targets[e].fmt, u, src0, src1, depths[e], depths[o], inputs[e],
+                    VK_NULL_HANDLE, targets[e].view);
     }
   }
   if (s.queries) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, s.queries.get(), 2);

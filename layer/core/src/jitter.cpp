@@ -35,6 +35,7 @@ bool undoesJitter(TemporalMethod method) {
     case TemporalMethod::Hmtaa:
     case TemporalMethod::Vtaa:
     case TemporalMethod::Hybrid:
+    case TemporalMethod::Steady:
       return true;
     case TemporalMethod::None:
     case TemporalMethod::Fxaa:

@@ -11,8 +11,9 @@ struct MethodEntry {
   std::string_view name;
 };
 constexpr MethodEntry kMethods[] = {
-    {TemporalMethod::None, "none"},   {TemporalMethod::Fxaa, "fxaa"}, {TemporalMethod::Taa, "taa"},
-    {TemporalMethod::Hmtaa, "hmtaa"}, {TemporalMethod::Vtaa, "vtaa"}, {TemporalMethod::Hybrid, "hybrid"},
+    {TemporalMethod::None, "none"},     {TemporalMethod::Fxaa, "fxaa"}, {TemporalMethod::Taa, "taa"},
+    {TemporalMethod::Hmtaa, "hmtaa"},   {TemporalMethod::Vtaa, "vtaa"}, {TemporalMethod::Hybrid, "hybrid"},
+    {TemporalMethod::Steady, "steady"},
 };
 
 bool finite(float v) {
@@ -44,7 +45,7 @@ std::optional<TemporalMethod> parseTemporalMethod(std::string_view name) {
 std::optional<Params> applyMethodName(std::string_view name, Params base) {
   if (name == "default") {
     base.temporal = kDefaultTemporalMethod;
-    base.stereo = true;
+    base.stereo = kDefaultStereo;
     return base;
   }
   if (name == "stereo") {
@@ -94,6 +95,14 @@ std::string validate(const Params& p, Params* sanitized) {
   check(inUnit(p.vtaaAlphaMin), "vtaaAlphaMin", &Params::vtaaAlphaMin);
   check(positive(p.stereoFarDistanceM) || p.stereoFarDistanceM == INFINITY, "stereoFarDistanceM",
         &Params::stereoFarDistanceM);
+  check(inUnit(p.steadyAlphaFloor) && p.steadyAlphaFloor > 0.0f, "steadyAlphaFloor",
+        &Params::steadyAlphaFloor);
+  check(finite(p.steadyFootprint) && p.steadyFootprint >= 0.0f && p.steadyFootprint <= 0.25f,
+        "steadyFootprint", &Params::steadyFootprint);
+  check(positive(p.steadyNearestDepthM) || p.steadyNearestDepthM == INFINITY, "steadyNearestDepthM",
+        &Params::steadyNearestDepthM);
+  check(finite(p.steadyBlurBudgetPx2) && p.steadyBlurBudgetPx2 >= 0.0f, "steadyBlurBudgetPx2",
+        &Params::steadyBlurBudgetPx2);
   check(finite(p.stereoDepthTolerance) && p.stereoDepthTolerance >= 0.0f, "stereoDepthTolerance",
         &Params::stereoDepthTolerance);
   check(inUnit(p.stereoBetaMin), "stereoBetaMin", &Params::stereoBetaMin);

@@ -107,6 +107,21 @@ constexpr FloatKey kFloatKeys[] = {
     {"stereo_beta_min", &core::Params::stereoBetaMin, 0.0f, 1.0f, false},
     {"reset_angle_deg", &core::Params::resetAngleDeg, 0.0f, 180.0f, true},
     {"reset_translation_m", &core::Params::resetTranslationM, 0.0f, 100.0f, true},
+    {"steady_alpha_floor", &core::Params::steadyAlphaFloor, 0.001f, 1.0f, false},
+    {"steady_blur_budget_px2", &core::Params::steadyBlurBudgetPx2, 0.0f, 100.0f, false},
+    {"steady_footprint", &core::Params::steadyFootprint, 0.0f, 0.25f, false},
+    {"steady_nearest_depth_m", &core::Params::steadyNearestDepthM, 0.01f, 1.0e6f, false},
+};
+
+// Boolean switches of core::Params (steady's ablation switches).
+struct BoolKey {
+  const char* key;
+  bool core::Params::*member;
+};
+constexpr BoolKey kBoolKeys[] = {
+    {"steady_confidence", &core::Params::steadyConfidence},
+    {"steady_clip_rejects", &core::Params::steadyClipRejects},
+    {"steady_interpolated", &core::Params::steadyInterpolated},
 };
 
 constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source",   "imu_device",
@@ -142,7 +157,7 @@ std::string rangeText(const FloatKey& f) {
 
 constexpr const char* kBoolText = "1/0, true/false, yes/no or on/off";
 constexpr const char* kMethodText =
-    "none, fxaa, taa, hmtaa, vtaa, hybrid, stereo, <one of these>+stereo or default";
+    "none, fxaa, taa, hmtaa, vtaa, hybrid, steady, stereo, <one of these>+stereo or default";
 
 // Applies one key.
 void applyKey(Config& c, const std::string& key, const std::string& value, const Origin& origin,
@@ -215,6 +230,15 @@ void applyKey(Config& c, const std::string& key, const std::string& value, const
       bad(sink, origin, value, "a whole number in [1, " + std::to_string(core::Params::kMaxSamples) + "]",
           std::to_string(defaults.params.sampleCount));
   } else {
+    for (const BoolKey& b : kBoolKeys) {
+      if (key == b.key) {
+        if (auto v = parseBool(value))
+          c.params.*b.member = *v;
+        else
+          bad(sink, origin, value, kBoolText, defaults.params.*b.member ? "1" : "0");
+        return;
+      }
+    }
     for (const FloatKey& f : kFloatKeys) {
       if (key == f.key) {
         const auto d = parseNumber(value);
@@ -258,7 +282,8 @@ std::string_view toString(LogLevel level) {
 }
 
 bool isKnownMethodName(std::string_view name) {
-  static constexpr std::string_view kTemporal[] = {"none", "fxaa", "taa", "hmtaa", "vtaa", "hybrid"};
+  static constexpr std::string_view kTemporal[] = {"none", "fxaa",   "taa",   "hmtaa",
+                                                   "vtaa", "hybrid", "steady"};
   if (name == "default" || name == "stereo") return true;
   std::string_view base = name;
   constexpr std::string_view kSuffix = "+stereo";
@@ -271,6 +296,7 @@ bool isKnownMethodName(std::string_view name) {
 std::vector<std::string> knownConfigKeys() {
   std::vector<std::string> keys(std::begin(kOtherKeys), std::end(kOtherKeys));
   for (const FloatKey& f : kFloatKeys) keys.emplace_back(f.key);
+  for (const BoolKey& b : kBoolKeys) keys.emplace_back(b.key);
   return keys;
 }
 
