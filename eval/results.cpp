@@ -2,6 +2,8 @@
 
 #include "suite.h"
 
+#include "steadyxr/core/params.h"
+
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -134,7 +136,7 @@ void printResults(const std::vector<ResultRow>& rows, const std::vector<TargetCh
               << std::setw(8) << r.gpuMs << std::setw(8) << r.costMs << "\n";
     std::cout.unsetf(std::ios::fixed);
   }
-  std::cout << "\nTargets (issue 14; default = hybrid+stereo unless kDefaultTemporalMethod changed):\n";
+  std::cout << "\nTargets (issue 14; default = " << core::methodName(core::Params{}) << "):\n";
   for (const TargetCheck& t : targets) {
     std::cout << "  ["
               << (!t.evaluated ? "N/A"

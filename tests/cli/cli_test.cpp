@@ -288,7 +288,14 @@ TEST_F(Cli, EverythingItWritesTheLayerAccepts) {
                                                    {"stereo_depth_tolerance", "0.05"},
                                                    {"stereo_beta_min", "0.5"},
                                                    {"reset_angle_deg", "30"},
-                                                   {"reset_translation_m", "0.5"}};
+                                                   {"reset_translation_m", "0.5"},
+                                                   {"steady_alpha_floor", "0.1"},
+                                                   {"steady_blur_budget_px2", "0.2"},
+                                                   {"steady_footprint", "0.05"},
+                                                   {"steady_nearest_depth_m", "1"},
+                                                   {"steady_confidence", "off"},
+                                                   {"steady_clip_rejects", "no"},
+                                                   {"steady_interpolated", "1"}};
   for (const std::string& key : layer::knownConfigKeys()) {
     ASSERT_TRUE(good.count(key)) << "no good value for " << key << " in this test";
     ASSERT_EQ(cli({"set", "--app", "a", key + "=" + good.at(key)}), 0) << key << ": " << err_.str();

@@ -143,7 +143,7 @@ echo "[$phase] method=$(field method) frames_filtered=$(field frames_filtered)"
 phase=B
 t=$(now_ms)
 "$cli" --config "$conf" set method=default "dump_dir=$dir/dump-b" >"$out/cli-b.txt" 2>&1 || fail "steadyxr set: $(cat "$out/cli-b.txt")"
-wait_for 10 '[[ $(field method) == default && $(field passes) == hybrid+stereo ]]' || fail "method default not applied"
+wait_for 10 '[[ $(field method) == default && $(field passes) == steady ]]' || fail "method default not applied"
 latency_b=$(applied_after "$t")
 base=$(field frames_filtered)
 wait_for 30 "[[ \$(field frames_filtered) -ge $((base + 10)) ]]" || fail "filtering stopped after the method change"
