@@ -60,27 +60,14 @@ done
 
 # 3. Install into an overlay of the cached trixie root (writes go to a scratch upper layer), or
 #    into a copy of it: the shared cached root is never written.
-base=$("$here/../layer/e2e/ensure_root.sh")
-rc=$?
-if ((rc == 77)); then
-  echo "SKIP: no trixie root (no debootstrap or no Debian mirror)"
-  exit 77
-elif ((rc != 0)) || [[ ! -d $base ]]; then
-  echo "FAIL: building the trixie root failed"
-  exit 1
-fi
+source "$here/../layer/e2e/lib.sh"
+base=$(e2e_root) || exit $?
 scratch=$(mktemp -d /tmp/steadyxr-deb-XXXXXX)
 root=$scratch/merged
 mkdir -p "$scratch/upper" "$scratch/work" "$root"
 pids=()
 cleanup() {
-  for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
-  for pid in "${pids[@]}"; do
-    for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
-    kill -KILL "$pid" 2>/dev/null || true
-    wait "$pid" 2>/dev/null || true
-  done
-  pids=()
+  e2e_stop_pids
   umount "$root" 2>/dev/null || umount -l "$root" 2>/dev/null || true
   rm -rf "$scratch"
 }

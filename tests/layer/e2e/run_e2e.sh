@@ -27,34 +27,14 @@ rm -rf "$out"
 mkdir -p "$out"
 out=$(readlink -f "$out")
 
-root=$("$here/ensure_root.sh")
-rc=$?
-if ((rc == 77)); then
-  echo "SKIP: cannot build the trixie root (no debootstrap, not root, or no Debian mirror)"
-  exit 77
-elif ((rc != 0)) || [[ ! -d $root ]]; then
-  echo "FAIL: building the trixie root failed"
-  exit 1
-fi
+source "$here/lib.sh"
+root=$(e2e_root) || exit $?
 
 # Per-run folder inside the root (no bind mounts): the layer, its manifest, logs, dumps.
 tag=steadyxr-e2e-$$
 inroot=/tmp/$tag
 host=$root$inroot
-mkdir -p "$host/layer"
-cp "$layer_so" "$host/layer/"
-cat >"$host/layer/XrApiLayer_steadyxr.json" <<JSON
-{
-    "file_format_version": "1.0.0",
-    "api_layer": {
-        "name": "$layer_name",
-        "library_path": "$inroot/layer/$(basename "$layer_so")",
-        "api_version": "1.0",
-        "implementation_version": "1",
-        "description": "steadyxr (end-to-end test copy)"
-    }
-}
-JSON
+e2e_install_layer "$host" "$inroot" "$layer_so" "steadyxr (end-to-end test copy)"
 
 # The implicit manifest, found through XDG_DATA_DIRS, enabled only by STEADYXR_ENABLE.
 mkdir -p "$host/data/openxr/1/api_layers/implicit.d"
@@ -75,16 +55,7 @@ JSON
 
 pids=()
 cleanup() {
-  # Stop only what this script started, by PID.
-  for pid in "${pids[@]}"; do
-    kill -TERM "$pid" 2>/dev/null || true
-  done
-  for pid in "${pids[@]}"; do
-    for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
-    kill -KILL "$pid" 2>/dev/null || true
-    wait "$pid" 2>/dev/null || true
-  done
-  pids=()
+  e2e_stop_pids
 }
 cleanup_all() {
   cleanup

@@ -24,46 +24,21 @@ rm -rf "$out"
 mkdir -p "$out"
 out=$(readlink -f "$out")
 
-root=$("$here/ensure_root.sh")
-rc=$?
-if ((rc == 77)); then
-  echo "SKIP: cannot build the trixie root"
-  exit 77
-elif ((rc != 0)) || [[ ! -d $root ]]; then
-  echo "FAIL: building the trixie root failed"
-  exit 1
-fi
+source "$here/lib.sh"
+root=$(e2e_root) || exit $?
 
 dir=/tmp/steadyxr-live-$$
 host=$root$dir
-mkdir -p "$host/layer" "$host/xdg"
+mkdir -p "$host/xdg"
 chmod 700 "$host/xdg"
-cp "$layer_so" "$host/layer/"
-cat >"$host/layer/XrApiLayer_steadyxr.json" <<JSON
-{
-    "file_format_version": "1.0.0",
-    "api_layer": {
-        "name": "$layer_name",
-        "library_path": "$dir/layer/$(basename "$layer_so")",
-        "api_version": "1.0",
-        "implementation_version": "1",
-        "description": "steadyxr (live-control test copy)"
-    }
-}
-JSON
+e2e_install_layer "$host" "$dir" "$layer_so" "steadyxr (live-control test copy)"
 conf=$host/steadyxr.conf
 printf 'method = none\ndump_frames = 3\ndump_dir = %s/dump-a\n' "$dir" >"$conf"
 
 pids=()
 cleanup() {
   exec 7>&- 2>/dev/null
-  for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
-  for pid in "${pids[@]}"; do
-    for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
-    kill -KILL "$pid" 2>/dev/null || true
-    wait "$pid" 2>/dev/null || true
-  done
-  pids=()
+  e2e_stop_pids
 }
 trap 'cleanup; cp -r "$host" "$out/run" 2>/dev/null; rm -rf "$host"' EXIT
 

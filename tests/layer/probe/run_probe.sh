@@ -20,42 +20,17 @@ rm -rf "$out"
 mkdir -p "$out"
 out=$(readlink -f "$out")
 
-root=$("$here/../e2e/ensure_root.sh")
-rc=$?
-if ((rc == 77)); then
-  echo "SKIP: cannot build the trixie root"
-  exit 77
-elif ((rc != 0)) || [[ ! -d $root ]]; then
-  echo "FAIL: building the trixie root failed"
-  exit 1
-fi
+source "$here/../e2e/lib.sh"
+root=$(e2e_root) || exit $?
 
 inroot=/tmp/steadyxr-probe-$$
 host=$root$inroot
-mkdir -p "$host/layer"
-cp "$layer_so" "$probe" "$host/layer/"
-cat >"$host/layer/XrApiLayer_steadyxr.json" <<JSON
-{
-    "file_format_version": "1.0.0",
-    "api_layer": {
-        "name": "$layer_name",
-        "library_path": "$inroot/layer/$(basename "$layer_so")",
-        "api_version": "1.0",
-        "implementation_version": "1",
-        "description": "steadyxr (probe test copy)"
-    }
-}
-JSON
+e2e_install_layer "$host" "$inroot" "$layer_so" "steadyxr (probe test copy)"
+cp "$probe" "$host/layer/"
 
 pids=()
 cleanup() {
-  for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
-  for pid in "${pids[@]}"; do
-    for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
-    kill -KILL "$pid" 2>/dev/null || true
-    wait "$pid" 2>/dev/null || true
-  done
-  pids=()
+  e2e_stop_pids
 }
 trap 'cleanup; rm -rf "$host"' EXIT
 

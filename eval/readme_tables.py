@@ -1,0 +1,95 @@
+#!/usr/bin/env python3
+"""Prints the README's accuracy tables (markdown) from a steadyxr-eval output folder.
+
+    python3 eval/readme_tables.py OUT_DIR            # the default suite (results.csv)
+    python3 eval/readme_tables.py --corpus OUT_DIR   # the corpus (corpus.csv)
+
+So the README's figures are copied from a run, never typed in by hand.
+"""
+import csv
+import sys
+
+SUITE_METHODS = ["none", "fxaa", "msaa4", "taa", "taa+jitter", "hmtaa", "vtaa", "hybrid",
+                 "hybrid+stereo", "default", "default+jitter", "oracle"]
+CORPUS_METHODS = ["fxaa", "taa", "taa+jitter", "hmtaa", "hybrid", "default", "default+jitter",
+                  "oracle"]
+
+
+def rows_by_case(path):
+    cases = {}
+    with open(path, newline="") as f:
+        for r in csv.DictReader(f):
+            if r["sweep"] != "0":
+                continue
+            cases.setdefault(r["scenario"], {})[r["method"]] = r
+    return cases
+
+
+def pct(a, b):
+    return f"{100.0 * (float(a) / float(b) - 1.0):+.1f} %"
+
+
+def suite(out):
+    cases = rows_by_case(f"{out}/results.csv")
+    methods = [m for m in SUITE_METHODS if any(m in c for c in cases.values())]
+    print("| case | " + " | ".join(methods) + " | default vs min(taa, taa+jitter) |")
+    print("|---" * (len(methods) + 2) + "|")
+    for name, c in cases.items():
+        cells = []
+        for m in methods:
+            v = f"{float(c[m]['rmse']):.4f}" if m in c else "–"
+            cells.append(f"**{v}**" if m == "default" else v)
+        best_taa = min(float(c[m]["rmse"]) for m in ("taa", "taa+jitter") if m in c)
+        print(f"| {name} | " + " | ".join(cells) + f" | {pct(c['default']['rmse'], best_taa)} |")
+    print()
+    print("| case | head speed p95 deg/s | temporal error none → taa → taa+jitter → **default** "
+          "(MTCD default) | default worst frame / none | frames to recover | stereo error "
+          "default → steady+stereo | oracle RMSE / default's |")
+    print("|---|---|---|---|---|---|---|")
+    for name, c in cases.items():
+        d = c["default"]
+        te = " → ".join(f"{float(c[m]['temporal_error']):.3f}" for m in ("none", "taa", "taa+jitter"))
+        low = " (low)" if d["low_speed"] == "1" else ""
+        stereo = c.get("steady+stereo")  # the default is steady without the stereo pass
+        st = (f"{float(d['stereo_error']):.3f} → {float(stereo['stereo_error']):.3f}"
+              if stereo else f"{float(d['stereo_error']):.3f}")
+        oracle = (f"{100 * float(c['oracle']['rmse']) / float(d['rmse']):.0f} %"
+                  if "oracle" in c else "–")
+        print(f"| {name} | {float(d['head_speed_p95']):.2f}{low} | {te} → "
+              f"**{float(d['temporal_error']):.3f}** ({float(d['mtcd']):.3f}) | "
+              f"{float(d['ghost_worst_ratio']):.2f} (frame {d['ghost_worst_frame']}) | "
+              f"{d['recovery_frames']}{'' if d['recovered'] == '1' else '+'} "
+              f"({d['motion_changes']} changes) | {st} | {oracle} |")
+
+
+def corpus(out):
+    groups = {}
+    with open(f"{out}/corpus.csv", newline="") as f:
+        for r in csv.DictReader(f):
+            groups.setdefault((r["motion_class"], r["picture_class"]), {})[r["method"]] = r
+    methods = [m for m in CORPUS_METHODS if any(m in g for g in groups.values())]
+    print("| motion | pictures | cases | " + " | ".join(methods) +
+          " | default TE / MTCD vs none (low speed) | default worst frame / none |"
+          " most frames to recover | default > none / > taa (cases) |")
+    print("|---" * (len(methods) + 7) + "|")
+    for (motion, pictures), g in sorted(groups.items()):
+        d = g["default"]
+        cells = []
+        for m in methods:
+            v = f"{100 * float(g[m]['mean_rmse_vs_none']):.0f}" if m in g else "–"
+            cells.append(f"**{v}**" if m == "default" else v)
+        low = (f"{100 * float(d['default_temporal_error_vs_none']):.0f} / "
+               f"{100 * float(d['default_mtcd_vs_none']):.0f} %"
+               if d["low_speed_cases"] != "0" else "–")
+        print(f"| {motion} | {pictures} | {d['cases']} | " + " | ".join(cells) +
+              f" | {low} | {float(d['default_worst_frame_vs_none']):.2f} | "
+              f"{d['default_max_recovery_frames']} | {d['default_above_none']} / {d['default_above_taa']} |")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) == 3 and sys.argv[1] == "--corpus":
+        corpus(sys.argv[2])
+    elif len(sys.argv) == 2:
+        suite(sys.argv[1])
+    else:
+        sys.exit(__doc__)

@@ -1,0 +1,53 @@
+# Shared by the end-to-end scripts (run_e2e.sh, run_live.sh, probe/run_probe.sh,
+# tests/packaging/deb_test.sh): the cached trixie root, a test copy of the layer inside it, and
+# stopping what a script started. Source it; it defines functions only.
+
+e2e_lib_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+
+# Prints the cached trixie root's path, or exits the calling script: 77 (skip) where no root can
+# be built here (no debootstrap, not root, no Debian mirror), 1 where building it failed.
+e2e_root() {
+  local root rc
+  root=$("$e2e_lib_dir/ensure_root.sh")
+  rc=$?
+  if ((rc == 77)); then
+    echo "SKIP: cannot build the trixie root (no debootstrap, not root, or no Debian mirror)" >&2
+    exit 77
+  elif ((rc != 0)) || [[ ! -d $root ]]; then
+    echo "FAIL: building the trixie root failed" >&2
+    exit 1
+  fi
+  echo "$root"
+}
+
+# e2e_install_layer HOST_DIR IN_ROOT_DIR LAYER_SO DESCRIPTION: copies the layer into
+# HOST_DIR/layer (the root's IN_ROOT_DIR/layer) beside an explicit manifest naming it there.
+e2e_install_layer() {
+  local host=$1 inroot=$2 layer_so=$3 description=$4
+  mkdir -p "$host/layer"
+  cp "$layer_so" "$host/layer/"
+  cat >"$host/layer/XrApiLayer_steadyxr.json" <<JSON
+{
+    "file_format_version": "1.0.0",
+    "api_layer": {
+        "name": "XR_APILAYER_STEADYXR_head_taa",
+        "library_path": "$inroot/layer/$(basename "$layer_so")",
+        "api_version": "1.0",
+        "implementation_version": "1",
+        "description": "$description"
+    }
+}
+JSON
+}
+
+# Stops only what the script started, by PID (the array `pids`): TERM, up to 5 s, then KILL.
+e2e_stop_pids() {
+  local pid
+  for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
+  for pid in "${pids[@]}"; do
+    for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+    kill -KILL "$pid" 2>/dev/null || true
+    wait "$pid" 2>/dev/null || true
+  done
+  pids=()
+}
