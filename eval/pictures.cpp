@@ -11,7 +11,7 @@ namespace steadyxr::eval {
 namespace {
 
 // The image viewer's picture plane is 1.2 m tall at 1.5 m (scene.cpp, picturePlane) and the eye's
-// vertical fov spans tan(0.80) + tan(0.84) (suite.cpp, eyeFov): it covers this fraction of the
+// vertical fov spans tan(0.80) + tan(0.84) (eye_rig.cpp, eyeFov): it covers this fraction of the
 // image height. Pictures are 4:3, the plane's aspect.
 constexpr double kPlaneHeightFraction = 1.2 / (1.5 * 2.1452);  // tan(0.80) + tan(0.84) = 2.1452
 

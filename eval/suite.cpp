@@ -1,24 +1,28 @@
+// runSuite: runs every scenario x method frame by frame (render both eyes at the head pose ->
+// filter core -> display stage -> metrics), then writes the result files, crops and tables.
 #include "suite.h"
 
 #include "camera.h"
 #include "corpus.h"
+#include "cost_timing.h"
 #include "crops.h"
+#include "eye_rig.h"
+#include "frame_score.h"
 #include "image.h"
 #include "metrics.h"
 #include "oracle.h"
-#include "pictures.h"
+#include "progress.h"
 #include "renderer.h"
 #include "results.h"
-#include "scenario.h"
+#include "scenario_list.h"
 #include "scene.h"
 #include "targets.h"
 #include "variants.h"
-#include "warp.h"
+#include "warp_study.h"
 
 #include "steadyxr/core/filter.h"
 #include "steadyxr/core/jitter.h"
 #include "steadyxr/core/params.h"
-#include "steadyxr/core/view_math.h"
 #include "steadyxr/core/vulkan_context.h"
 #include "steadyxr/imu/motion.h"
 
@@ -28,232 +32,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
-#include <map>
 #include <memory>
 #include <optional>
-#include <sstream>
 
 #include <glm/glm.hpp>
 
 namespace steadyxr::eval {
 
 namespace {
-
-constexpr float kIpdM = 0.064f;
-constexpr float kNearZ = 0.05f;
-constexpr float kFarZ = 100.0f;
-const std::vector<std::string> kDefaultImages = {"astronaut", "camera", "coffee", "brick",
-                                                 "grass",     "text",   "page"};
-
-// Per-eye fov of a typical HMD: wider towards the temple than the nose (radians).
-core::Fov eyeFov(int eye) {
-  core::Fov f;
-  f.angleUp = 0.80f;
-  f.angleDown = -0.84f;
-  f.angleLeft = eye == 0 ? -0.82f : -0.73f;
-  f.angleRight = eye == 0 ? 0.73f : 0.82f;
-  return f;
-}
-
-// Running sums of one (scenario, variant).
-struct Accum {
-  double sqErr = 0, sqN = 0, ssimSum = 0, ssimN = 0;
-  double mtcdSum = 0, mtcdN = 0, tempErrSum = 0, tempErrN = 0, mtcdDispSum = 0, mtcdDispN = 0;
-  double sqErrDisp = 0, sqDispN = 0, errPxDisp = 0, errPxDispN = 0;
-  double stereoSum = 0, stereoN = 0, stereoErrSum = 0, stereoErrN = 0;
-  double gpuTemporal = 0, gpuStereo = 0, gpuOther = 0, gpuN = 0;
-  double timedWallMs = 0, timedGpuMs = 0;  // medians of the back-to-back timing frames
-  double cpuUs = 0, cpuN = 0, renderMs = 0, renderN = 0;
-  std::vector<double> frameRmse;  // per frame, both eyes (ghosting per frame)
-  std::array<Image, 2> prev, prevDisplay;
-};
-
-double safeDiv(double a, double b) {
-  return b > 0 ? a / b : 0.0;
-}
-
-std::vector<Scenario> buildScenarios(const Options& o, std::string* error) {
-  std::vector<Scenario> out;
-  const std::vector<std::string> images = o.images.empty() ? kDefaultImages : o.images;
-  auto add = [&](const std::string& scene, const std::string& motion, bool trace,
-                 const std::string& picture) {
-    Scenario s;
-    s.scene = scene;
-    s.motion = motion;
-    s.trace = trace;
-    s.picture = picture;
-    s.motionClass = trace ? "trace" : motionClassOf(motion);
-    s.pictureClass =
-        scene == "imageviewer" || scene == "noisy" ? pictureClass(textureKey(picture)) : "scene:" + scene;
-    const std::string motionLabel = trace ? std::filesystem::path(motion).stem().string() : motion;
-    s.label = scene + "-" + motionLabel;
-    if (scene == "imageviewer" || scene == "noisy") s.label += "-" + textureKey(picture);
-    // The fast turn starts at once: give the filters history from a still head first.
-    if (!trace && motion == "fastturn") s.leadSec = 0.5;
-    out.push_back(s);
-  };
-  for (const std::string& sc : o.scenes) {
-    if (std::find(sceneNames().begin(), sceneNames().end(), sc) == sceneNames().end()) {
-      *error = "unknown scene '" + sc + "'";
-      return {};
-    }
-  }
-  if (o.corpus) return corpusScenarios(o);
-  if (o.scenes.empty() && o.motions.empty()) {
-    // The default suite: each scene with the head motion it is about.
-    // Sweeps (extra points) only where they matter, to keep the default run to a few minutes.
-    const size_t nImages =
-        o.quick ? 1 : std::min<size_t>(images.size(), o.images.empty() ? 2 : images.size());
-    for (size_t i = 0; i < nImages; ++i) add("imageviewer", "fixation", false, images[i]);
-    // A zone plate up to Nyquist: the shimmer case a photo does not show (unless --images chose).
-    if (!o.quick && o.images.empty()) add("imageviewer", "fixation", false, "zoneplate");
-    add("imageviewer", "pursuit", false, images[0]);
-    add("imageviewer", "fastturn", false, images[0]);
-    add("thin", "fixation", false, images[0]);
-    add("moving", "fixation", false, images[0]);
-    add("disocclusion", "pursuit", false, images[0]);
-    add("noisy", "fixation", false, images[0]);
-    for (const std::string& tr : o.traces) add("imageviewer", tr, true, images[0]);
-    // Methods named on the command line run everywhere: the user asked for them.
-    for (size_t i = 0; i < out.size(); ++i)
-      out[i].sweeps = !o.methods.empty() || i == 0 || out[i].motion == "fastturn";
-    return out;
-  }
-  const std::vector<std::string> scenes = o.scenes.empty() ? sceneNames() : o.scenes;
-  std::vector<std::pair<std::string, bool>> motions;
-  for (const std::string& m : o.motions) motions.emplace_back(m, false);
-  for (const std::string& t : o.traces) motions.emplace_back(t, true);
-  if (motions.empty()) motions.emplace_back("fixation", false);
-  for (const std::string& sc : scenes) {
-    for (const auto& [m, trace] : motions) {
-      if (sc == "imageviewer" || sc == "noisy") {
-        for (const std::string& img : (o.images.empty() ? std::vector<std::string>{images[0]} : images)) {
-          add(sc, m, trace, img);
-        }
-      } else {
-        add(sc, m, trace, images[0]);
-      }
-    }
-  }
-  return out;
-}
-
-class Progress {
- public:
-  Progress(bool enabled, int total)
-      : enabled_(enabled), total_(total), start_(std::chrono::steady_clock::now()) {}
-  void update(int done, const std::string& what) {
-    if (!enabled_) return;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    const double eta = done > 0 ? elapsed * (total_ - done) / done : 0.0;
-    const int width = 30, filled = total_ > 0 ? width * done / total_ : width;
-    std::fprintf(stderr, "\r[%s%s] %3d%% %-38.38s %5.0fs left ", std::string(filled, '#').c_str(),
-                 std::string(width - filled, ' ').c_str(), total_ > 0 ? 100 * done / total_ : 100,
-                 what.c_str(), eta);
-    std::fflush(stderr);
-  }
-  void finish() {
-    if (enabled_) std::fprintf(stderr, "\n");
-  }
-
- private:
-  bool enabled_;
-  int total_;
-  std::chrono::steady_clock::time_point start_;
-};
-
-struct HeadPose {
-  glm::quat orientation{1, 0, 0, 0};
-  glm::vec3 position{0.0f};
-};
-
-// jitterPx: the layer's sub-pixel jitter (core::jitterFov), zero for an unjittered render.
-std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h,
-                                    glm::vec2 jitterPx = glm::vec2(0.0f)) {
-  std::array<EyeCamera, 2> cams;
-  for (int eye = 0; eye < 2; ++eye) {
-    core::Pose p;
-    p.orientation = head.orientation;
-    p.position = head.position + head.orientation * glm::vec3(eye == 0 ? -kIpdM / 2 : kIpdM / 2, 0.0f, 0.0f);
-    const core::Fov fov = core::jitterFov(eyeFov(eye), jitterPx.x, jitterPx.y, uint32_t(w), uint32_t(h));
-    cams[eye] = makeEyeCamera(p, fov, w, h, kNearZ, kFarZ);
-  }
-  return cams;
-}
-
-// What every method's output of one frame is scored against.
-struct FrameTruth {
-  std::array<Image, 2> gt, prevGt;  // prevGt is empty on a case's first frame
-  std::array<EyeCamera, 2> cams;    // the unjittered eye cameras (output grid)
-  std::array<DepthMap, 2> depth;    // their 1-sample depth (stereo correspondences)
-  std::vector<std::array<EyeCamera, 2>> dispCams;
-  std::vector<std::array<Image, 2>> dispGt;
-};
-
-struct FrameScore {
-  double rmse = 0, ssim = 0, mtcd = -1, tempErr = -1, mtcdDisp = -1, rmseDisp = 0, stereoDiff = 0,
-         stereoErr = 0;
-};
-
-// Scores one frame's output (both eyes) into the method's running sums.
-FrameScore scoreFrame(Accum& a, const std::array<Image, 2>& out, const FrameTruth& ft, const Options& o) {
-  FrameScore s;
-  const double nPix = double(out[0].width) * out[0].height;
-  const int ratio = int(ft.dispCams.size());
-  double frameSq = 0, frameSqDisp = 0;
-  for (int eye = 0; eye < 2; ++eye) {
-    const double mse = meanSquaredError(out[eye], ft.gt[eye]);
-    frameSq += mse / 2;
-    a.sqErr += mse * nPix * 3;
-    a.sqN += nPix * 3;
-    const double ss = ssim(out[eye], ft.gt[eye]);
-    s.ssim += ss / 2;
-    a.ssimSum += ss;
-    a.ssimN += 1;
-    if (!a.prev[eye].empty()) {
-      const double m = 255.0 * temporalColorDifference(a.prev[eye], out[eye]);
-      s.mtcd = (s.mtcd < 0 ? 0 : s.mtcd) + m / 2;
-      a.mtcdSum += m;
-      a.mtcdN += 1;
-      const double te = 255.0 * temporalErrorVsTruth(a.prev[eye], out[eye], ft.prevGt[eye], ft.gt[eye]);
-      s.tempErr = (s.tempErr < 0 ? 0 : s.tempErr) + te / 2;
-      a.tempErrSum += te;
-      a.tempErrN += 1;
-    }
-    // Display stage (a): the runtime's rotational timewarp of this frame until the next one.
-    for (int k = 0; k < ratio; ++k) {
-      const Image shown = k == 0 ? out[eye] : rotationalTimewarp(out[eye], ft.cams[eye], ft.dispCams[k][eye]);
-      const double dmse = meanSquaredError(shown, ft.dispGt[k][eye]);
-      frameSqDisp += dmse / (2 * ratio);
-      a.sqErrDisp += dmse;
-      a.sqDispN += 1;
-      a.errPxDisp += double(errorPixels(shown, ft.dispGt[k][eye], o.errorThreshold)) / nPix;
-      a.errPxDispN += 1;
-      if (!a.prevDisplay[eye].empty()) {
-        const double m = 255.0 * temporalColorDifference(a.prevDisplay[eye], shown);
-        s.mtcdDisp = (s.mtcdDisp < 0 ? 0 : s.mtcdDisp) + m / (2 * ratio);
-        a.mtcdDispSum += m;
-        a.mtcdDispN += 1;
-      }
-      a.prevDisplay[eye] = shown;
-    }
-  }
-  s.rmse = std::sqrt(frameSq);
-  s.rmseDisp = std::sqrt(frameSqDisp);
-  a.frameRmse.push_back(s.rmse);
-  s.stereoDiff =
-      stereoDifference(out[0], ft.depth[0], ft.cams[0], out[1], ft.depth[1], ft.cams[1]).meanSquared;
-  a.stereoSum += s.stereoDiff;
-  a.stereoN += 1;
-  s.stereoErr = 255.0 * stereoErrorPerPixel(out[0], out[1], ft.gt[0], ft.gt[1], ft.depth[0], ft.cams[0],
-                                            ft.depth[1], ft.cams[1]);
-  a.stereoErrSum += s.stereoErr;
-  a.stereoErrN += 1;
-  a.prev = out;
-  return s;
-}
 
 // The methods shown in crops, in this order, where the run has them.
 const std::vector<std::string> kCropMethods = {
@@ -308,27 +95,7 @@ int runSuite(const Options& o) {
   std::filesystem::create_directories(o.outDir + "/crops");
 
   // Every texture any scenario needs, uploaded once (index 0 = white).
-  TextureSet textures;
-  {
-    Rgba8 white;
-    white.width = white.height = 1;
-    white.pixels = {255, 255, 255, 255};
-    textures.images.push_back(white);
-    textures.names.push_back("white");
-    // The scenarios' pictures first: a path the user gave wins over a built-in name with its stem.
-    std::vector<std::string> wanted;
-    for (const Scenario& s : scenarios) wanted.push_back(s.picture);
-    for (const char* name : {"brick", "grass", "text", "coffee", "camera"}) wanted.push_back(name);
-    for (const std::string& name : wanted) {
-      if (textures.find(textureKey(name)) != 0) continue;
-      std::string warning;
-      textures.images.push_back(isProceduralPicture(name)
-                                    ? proceduralPicture(name, o.height)
-                                    : loadTextureOrFallback(name, o.picturesDir, &warning));
-      textures.names.push_back(textureKey(name));
-      if (!warning.empty()) std::cerr << "steadyxr-eval: " << warning << "\n";
-    }
-  }
+  const TextureSet textures = gatherTextures(scenarios, o);
   RenderOptions renderOptions;
   renderOptions.srgb = !o.unorm;
   renderOptions.mipmaps = o.mipmaps;
@@ -381,7 +148,6 @@ int runSuite(const Options& o) {
   const int ratio = std::max(1, int(std::lround(o.displayHz / o.appHz)));
   Progress progress(o.progress, int(scenarios.size()) * o.frames);
   int framesDone = 0;
-  const size_t nPix = size_t(o.width) * o.height;
   Oracle oracle(!o.unorm);
   const CropWindow cropWindow = centreCrop(o.width, o.height);
   // The animation's crop: an eighth of the image (a 40-frame GIF of four fifth-crops is 2 MB).
@@ -611,32 +377,12 @@ int runSuite(const Options& o) {
         if (!frameOut[vi][0].empty()) lastOut[vi] = std::move(frameOut[vi]);
       }
 
-      // Seed 004 study (left eye, the app's own image): extrapolate k display frames ahead by
-      // (a) rotational timewarp and (b) forward depth-image warping with per-pixel motion, and
-      // count pixels that differ from the frame rendered at that time. Runs after the filters:
-      // it reuses the 1-sample render target.
-      for (int k = 1; k <= o.warpSteps; ++k) {
-        const double td = t + k / o.displayHz;
-        const auto dc = eyeCameras(headAt(td), o.width, o.height);
-        DrawList draws = scene.drawsAt(td);
-        draws.noiseSeed = uint32_t(f * 2 + 1);
-        if (o.noise > 0.0f) draws.noiseAmplitude = o.noise;
-        RenderedView truth;
-        if (!renderer->renderBase(0, dc[0], draws, &truth, nullptr, &error)) {
-          std::cerr << "steadyxr-eval: render: " << error << "\n";
-          return 1;
-        }
-        const Image tw = rotationalTimewarp(base[0].color, cams[0], dc[0]);
-        const MotionField motion = [&](const glm::vec3& p) { return scene.motion(p, t, dt); };
-        const Image fw = forwardDepthWarp(base[0].color, base[0].depth, cams[0], dc[0], motion,
-                                          float((k / o.displayHz) / dt));
-        for (int mode = 0; mode < 2; ++mode) {
-          const int64_t e = errorPixels(mode == 0 ? tw : fw, truth.color, o.errorThreshold);
-          warpCsv << csvEscape(sc.label) << ',' << f << ',' << k << ',' << fmt(1000.0 * k / o.displayHz, 5)
-                  << ',' << fmt(headSpeed, 5) << ',' << fmt(objSpeed, 5) << ','
-                  << (mode == 0 ? "timewarp" : "depthwarp") << ',' << e << ','
-                  << fmt(double(e) / double(nPix), 6) << '\n';
-        }
+      // Seed 004 study (left eye, the app's own image). Runs after the filters: it reuses the
+      // 1-sample render target.
+      const WarpStudyFrame studyFrame{sc.label, f, t, dt, headSpeed, objSpeed, base[0], cams[0]};
+      if (!writeWarpStudy(*renderer, scene, o, headAt, studyFrame, warpCsv, &error)) {
+        std::cerr << "steadyxr-eval: render: " << error << "\n";
+        return 1;
       }
       progress.update(++framesDone, sc.label + " " + std::to_string(f + 1) + "/" + std::to_string(o.frames));
     }
@@ -648,25 +394,13 @@ int runSuite(const Options& o) {
     for (size_t vi = 0; vi < variants.size(); ++vi) {
       Variant& v = variants[vi];
       if (!active(v) || !lastFrame[vi] || !v.filter) continue;
-      constexpr int kWarm = 2, kTimed = 6;
-      std::vector<double> wall, gpu;
-      for (int k = 0; k < kWarm + kTimed; ++k) {
-        core::StereoOutput output;
-        output.views = {renderer->output(0), renderer->output(1)};
-        const auto c0 = std::chrono::steady_clock::now();
-        const bool ok = v.filter->submit(*lastFrame[vi], output, &error);
-        v.filter->waitIdle();
-        const auto c1 = std::chrono::steady_clock::now();
-        if (!ok) {
-          std::cerr << "\nsteadyxr-eval: filter '" << v.name << "' submit failed: " << error << "\n";
-          return 1;
-        }
-        if (k < kWarm) continue;
-        wall.push_back(std::chrono::duration<double, std::milli>(c1 - c0).count());
-        if (auto tm = v.filter->lastTimings()) gpu.push_back(tm->totalMs);
+      BackToBackTimes times;
+      if (!timeBackToBack(*v.filter, *lastFrame[vi], *renderer, &times, &error)) {
+        std::cerr << "\nsteadyxr-eval: filter '" << v.name << "' submit failed: " << error << "\n";
+        return 1;
       }
-      acc[vi].timedWallMs = percentile(wall, 0.5);
-      acc[vi].timedGpuMs = percentile(gpu, 0.5);
+      acc[vi].timedWallMs = times.wallMs;
+      acc[vi].timedGpuMs = times.gpuMs;
     }
 
     // Rows of this scenario.

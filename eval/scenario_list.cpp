@@ -1,0 +1,109 @@
+// Which cases a run covers, and the textures they need.
+#include "scenario_list.h"
+
+#include "corpus.h"
+#include "pictures.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+
+namespace steadyxr::eval {
+
+namespace {
+
+const std::vector<std::string> kDefaultImages = {"astronaut", "camera", "coffee", "brick",
+                                                 "grass",     "text",   "page"};
+
+}  // namespace
+
+std::vector<Scenario> buildScenarios(const Options& o, std::string* error) {
+  std::vector<Scenario> out;
+  const std::vector<std::string> images = o.images.empty() ? kDefaultImages : o.images;
+  auto add = [&](const std::string& scene, const std::string& motion, bool trace,
+                 const std::string& picture) {
+    Scenario s;
+    s.scene = scene;
+    s.motion = motion;
+    s.trace = trace;
+    s.picture = picture;
+    s.motionClass = trace ? "trace" : motionClassOf(motion);
+    s.pictureClass =
+        scene == "imageviewer" || scene == "noisy" ? pictureClass(textureKey(picture)) : "scene:" + scene;
+    const std::string motionLabel = trace ? std::filesystem::path(motion).stem().string() : motion;
+    s.label = scene + "-" + motionLabel;
+    if (scene == "imageviewer" || scene == "noisy") s.label += "-" + textureKey(picture);
+    // The fast turn starts at once: give the filters history from a still head first.
+    if (!trace && motion == "fastturn") s.leadSec = 0.5;
+    out.push_back(s);
+  };
+  for (const std::string& sc : o.scenes) {
+    if (std::find(sceneNames().begin(), sceneNames().end(), sc) == sceneNames().end()) {
+      *error = "unknown scene '" + sc + "'";
+      return {};
+    }
+  }
+  if (o.corpus) return corpusScenarios(o);
+  if (o.scenes.empty() && o.motions.empty()) {
+    // The default suite: each scene with the head motion it is about.
+    // Sweeps (extra points) only where they matter, to keep the default run to a few minutes.
+    const size_t nImages =
+        o.quick ? 1 : std::min<size_t>(images.size(), o.images.empty() ? 2 : images.size());
+    for (size_t i = 0; i < nImages; ++i) add("imageviewer", "fixation", false, images[i]);
+    // A zone plate up to Nyquist: the shimmer case a photo does not show (unless --images chose).
+    if (!o.quick && o.images.empty()) add("imageviewer", "fixation", false, "zoneplate");
+    add("imageviewer", "pursuit", false, images[0]);
+    add("imageviewer", "fastturn", false, images[0]);
+    add("thin", "fixation", false, images[0]);
+    add("moving", "fixation", false, images[0]);
+    add("disocclusion", "pursuit", false, images[0]);
+    add("noisy", "fixation", false, images[0]);
+    for (const std::string& tr : o.traces) add("imageviewer", tr, true, images[0]);
+    // Methods named on the command line run everywhere: the user asked for them.
+    for (size_t i = 0; i < out.size(); ++i)
+      out[i].sweeps = !o.methods.empty() || i == 0 || out[i].motion == "fastturn";
+    return out;
+  }
+  const std::vector<std::string> scenes = o.scenes.empty() ? sceneNames() : o.scenes;
+  std::vector<std::pair<std::string, bool>> motions;
+  for (const std::string& m : o.motions) motions.emplace_back(m, false);
+  for (const std::string& t : o.traces) motions.emplace_back(t, true);
+  if (motions.empty()) motions.emplace_back("fixation", false);
+  for (const std::string& sc : scenes) {
+    for (const auto& [m, trace] : motions) {
+      if (sc == "imageviewer" || sc == "noisy") {
+        for (const std::string& img : (o.images.empty() ? std::vector<std::string>{images[0]} : images)) {
+          add(sc, m, trace, img);
+        }
+      } else {
+        add(sc, m, trace, images[0]);
+      }
+    }
+  }
+  return out;
+}
+
+TextureSet gatherTextures(const std::vector<Scenario>& scenarios, const Options& o) {
+  TextureSet textures;
+  Rgba8 white;
+  white.width = white.height = 1;
+  white.pixels = {255, 255, 255, 255};
+  textures.images.push_back(white);
+  textures.names.push_back("white");
+  // The scenarios' pictures first: a path the user gave wins over a built-in name with its stem.
+  std::vector<std::string> wanted;
+  for (const Scenario& s : scenarios) wanted.push_back(s.picture);
+  for (const char* name : {"brick", "grass", "text", "coffee", "camera"}) wanted.push_back(name);
+  for (const std::string& name : wanted) {
+    if (textures.find(textureKey(name)) != 0) continue;
+    std::string warning;
+    textures.images.push_back(isProceduralPicture(name)
+                                  ? proceduralPicture(name, o.height)
+                                  : loadTextureOrFallback(name, o.picturesDir, &warning));
+    textures.names.push_back(textureKey(name));
+    if (!warning.empty()) std::cerr << "steadyxr-eval: " << warning << "\n";
+  }
+  return textures;
+}
+
+}  // namespace steadyxr::eval
