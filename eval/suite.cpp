@@ -3,6 +3,7 @@
 #include "suite.h"
 
 #include "camera.h"
+#include "case_rows.h"
 #include "corpus.h"
 #include "cost_timing.h"
 #include "crops.h"
@@ -404,69 +405,12 @@ int runSuite(const Options& o) {
     }
 
     // Rows of this scenario.
-    const double gtStereo = safeDiv(gtStereoSum, gtStereoN);
-    // Motion changes: the preset's own change times (the first frame at or after each), else, for
-    // a trace, detected from the head speed.
-    std::vector<int> changes;
-    if (sc.trace) {
-      changes = detectMotionChanges(headSpeeds, kMotionChangeDegPerSec);
-    } else {
-      for (double tc : stream->motionChangeTimes()) {
-        const int k = int(std::ceil((tc - (start - sc.leadSec)) / dt - 1e-9));
-        if (k >= 0 && k < o.frames && (changes.empty() || changes.back() != k)) changes.push_back(k);
-      }
-    }
-    const double p95 = percentile(headSpeeds, 0.95);
+    const CaseFacts facts{safeDiv(gtStereoSum, gtStereoN),
+                          motionChangeFrames(sc, *stream, headSpeeds, start - sc.leadSec, dt, o.frames),
+                          percentile(headSpeeds, 0.95), !scene.hasMovingObject, ctx->isCpuDevice()};
     for (size_t vi = 0; vi < variants.size(); ++vi) {
-      const Variant& v = variants[vi];
-      const Accum& a = acc[vi];
-      if (!active(v)) continue;
-      ResultRow r;
-      r.scenario = sc.label;
-      r.scene = sc.scene;
-      r.motion = sc.trace ? std::filesystem::path(sc.motion).stem().string() : sc.motion;
-      r.picture = (sc.scene == "imageviewer" || sc.scene == "noisy") ? textureKey(sc.picture) : "";
-      r.motionClass = sc.motionClass;
-      r.pictureClass = sc.pictureClass;
-      r.method = v.name;
-      r.filterMethod = v.oracle ? "oracle" : core::methodName(v.params);
-      r.sweep = v.sweep;
-      r.stereo = v.params.stereo;
-      r.jitter = v.jitter;
-      r.depthGiven = sc.depthGiven;
-      r.source = v.source;
-      r.mtcd = safeDiv(a.mtcdSum, a.mtcdN);
-      r.temporalError = safeDiv(a.tempErrSum, a.tempErrN);
-      r.mtcdDisplay = safeDiv(a.mtcdDispSum, a.mtcdDispN);
-      r.rmse = std::sqrt(safeDiv(a.sqErr, a.sqN));
-      r.ssim = safeDiv(a.ssimSum, a.ssimN);
-      r.rmseDisplay = std::sqrt(safeDiv(a.sqErrDisp, a.sqDispN));
-      r.errPxDisplayPct = 100.0 * safeDiv(a.errPxDisp, a.errPxDispN);
-      r.stereoError = safeDiv(a.stereoErrSum, a.stereoErrN);
-      r.stereoDiff = safeDiv(a.stereoSum, a.stereoN);
-      r.stereoDiffGt = gtStereo;
-      r.stereoGap = std::fabs(r.stereoDiff - gtStereo);
-      if (noneIndex >= 0) {
-        const Ghosting g = ghostingPerFrame(a.frameRmse, acc[noneIndex].frameRmse, changes);
-        r.ghostWorstRatio = g.worstRatio;
-        r.ghostWorstFrame = g.worstFrame;
-        r.recoveryFrames = g.recoveryFrames;
-        r.recovered = g.recovered;
-      }
-      r.motionChanges = int(changes.size());
-      r.headSpeedP95 = p95;
-      r.lowSpeed = p95 < kLowSpeedDegPerSec;
-      r.staticScene = !scene.hasMovingObject;
-      // lavapipe's timestamps miss dispatches that no barrier waits for (measured: hybrid 0.1 ms
-      // by timestamps, 3.5 ms from submit to idle, at 256x256), and its "GPU" is this CPU anyway:
-      // there the cost is the wall time from submit to idle. Real GPUs: timestamps.
-      r.gpuMs = ctx->isCpuDevice() ? a.timedWallMs : a.timedGpuMs;
-      r.gpuTemporalMs = safeDiv(a.gpuTemporal, a.gpuN);
-      r.gpuStereoMs = safeDiv(a.gpuStereo, a.gpuN);
-      r.gpuOtherMs = safeDiv(a.gpuOther, a.gpuN);
-      r.renderMs = safeDiv(a.renderMs, a.renderN);
-      r.cpuUs = safeDiv(a.cpuUs, a.cpuN);
-      rows.push_back(r);
+      if (!active(variants[vi])) continue;
+      rows.push_back(resultRow(sc, variants[vi], acc[vi], noneIndex >= 0 ? &acc[noneIndex] : nullptr, facts));
     }
     // Cost = the filter's GPU time + the render time above the 1-sample render (MSAA's price).
     double baseRender = 0;

@@ -1,0 +1,35 @@
+// One case's rows of results.csv: every method's running sums summarised, with the facts of the
+// case they share (motion changes, head speed, the ground truth's own stereo difference).
+#pragma once
+
+#include "frame_score.h"
+#include "results.h"
+#include "scenario.h"
+#include "variants.h"
+
+#include "steadyxr/imu/motion.h"
+
+#include <vector>
+
+namespace steadyxr::eval {
+
+struct CaseFacts {
+  double gtStereo = 0;             // the ground truth's mean stereo difference over the case
+  std::vector<int> motionChanges;  // frames at which the head motion changes
+  double headSpeedP95 = 0;         // deg/s
+  bool staticScene = true;         // no moving object
+  bool cpuDevice = false;          // the device is a CPU (lavapipe): cost is wall time
+};
+
+// The frames of a case at which its head motion changes: a preset's own change times (the first
+// frame at or after each), else, for a trace, detected from the head speed.
+std::vector<int> motionChangeFrames(const Scenario& sc, const imu::MotionStream& stream,
+                                    const std::vector<double>& headSpeeds, double firstFrameSec, double dt,
+                                    int frames);
+
+// The row of method `v` in case `sc`; `none` is the unfiltered method's sums (ghosting is measured
+// against it), nullptr when the run has no "none".
+ResultRow resultRow(const Scenario& sc, const Variant& v, const Accum& a, const Accum* none,
+                    const CaseFacts& facts);
+
+}  // namespace steadyxr::eval
