@@ -69,8 +69,8 @@ struct InstanceState {
   // From xrCreateVulkanInstanceKHR (XR_KHR_vulkan_enable2); unset on the v1 path, where the
   // session reads the device's effective version itself (deviceApiVersion).
   std::optional<uint32_t> vulkanApiVersion;
-  std::unique_ptr<LiveConfig> live;                // edits of the config file while the app runs
-  std::unique_ptr<StatusFile> status;              // $XDG_RUNTIME_DIR/steadyxr/<pid>-<n>.status
+  std::unique_ptr<LiveConfig> live;    // edits of the config file while the app runs
+  std::unique_ptr<StatusFile> status;  // $XDG_RUNTIME_DIR/steadyxr/<pid>-<n>.status
 };
 
 // A swapchain the layer owns (its output images). Destroys itself through the next layer.
@@ -209,7 +209,7 @@ class Session {
   std::optional<Config> appliedConfig_;
   int64_t lastStatusNs_ = 0;
   bool statusDue_ = true;
-  uint32_t debugFrames_ = 0;              // frames logged at debug level
+  uint32_t debugFrames_ = 0;  // frames logged at debug level
 };
 
 }  // namespace steadyxr::layer
