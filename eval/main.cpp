@@ -41,7 +41,9 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        layer's Halton(2,3) jitter, undone through ViewFrame::jitterPx); oracle
                        (static scenes: exact reprojection, 1/N over 16 frames, on the CPU);
                        sweeps as <m>@key=value[@key=value] with keys
-                       hmax,wmin,wlb,amin,alpha,gamma,beta,d,catmull (default: all + sweeps)
+                       hmax,wmin,wlb,amin,alpha,gamma,beta,d,catmull and steady's
+                       floor,conf,reject,clip,blur,footprint,near,interp (default: all +
+                       sweeps)
   --corpus             every motion preset over the corpus pictures and scenes, translating
                        motions with and without depth; one table per motion and picture
                        class (defaults: 96x96, 48 frames placed over the preset's motion

@@ -19,9 +19,10 @@ std::vector<std::string> defaultMethods(bool sweeps) {
     m.push_back(std::string(base) + "+jitter");
   m.push_back("oracle");
   if (sweeps) {
-    for (const char* s : {"hmtaa@hmax=10", "hmtaa@hmax=50", "hmtaa@wmin=0.15", "hmtaa@wmin=0.5",
-                          "taa@alpha=0.05", "taa@alpha=0.2", "default@floor=0.125", "default@floor=0.03125",
-                          "default@blur=0.5", "default@footprint=0.0625", "default@catmull=1"}) {
+    for (const char* s :
+         {"hmtaa@hmax=10", "hmtaa@hmax=50", "hmtaa@wmin=0.15", "hmtaa@wmin=0.5", "taa@alpha=0.05",
+          "taa@alpha=0.2", "default@floor=0.125", "default@floor=0.03125", "default@blur=0.5",
+          "default@footprint=0.0625", "default@clip=1", "default@catmull=1"}) {
       m.push_back(s);
     }
   }
@@ -116,6 +117,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyClipRejects = value != 0.0f;
     else if (key == "blur")
       params->steadyBlurBudgetPx2 = value;
+    else if (key == "clip")
+      params->steadyClipGamma = value;
     else if (key == "footprint")
       params->steadyFootprint = value;
     else if (key == "near")
@@ -124,7 +127,7 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyInterpolated = value != 0.0f;
     else {
       *error = "unknown parameter '" + key +
-               "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d, catmull, floor, conf, reject, blur, "
+               "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d, catmull, floor, conf, reject, clip, blur, "
                "footprint, near, "
                "interp)";
       return false;

@@ -49,7 +49,8 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   vec4 depth0;        // 1/nearZ, 1/farZ - 1/nearZ, minDepth, 1/(maxDepth-minDepth)
   vec4 depth1;
   vec4 w0;            // taaAlpha, clipGamma, alphaMin, shape S of Eq. 4 (1 = h > h_max); steady:
-                      // alpha floor in place of alphaMin, confidence (0/1) in place of S
+                      // its own clip gamma, alpha floor in place of alphaMin, confidence (0/1)
+                      // in place of S
   vec4 w1;            // wMin, wLowerBound, depthTolerance, fallback 1/z (no depth); steady:
                       // clipRejects (0/1), 1/blur budget (0 = off) in place of wMin, wLowerBound
   ivec4 flags;        // (mode), (sampleCount), historyValid, (writeOut); () = spec constant now

@@ -363,6 +363,10 @@ TEST_P(SteadyReference, MatchesCpuReference) {
     p.steadyBlurBudgetPx2 = 0.0f;
   }
   if (variant == "constant") p.steadyConfidence = false;
+  if (variant == "wideclip") {  // steady's clip box is its own, not taa's
+    p.steadyClipGamma = 2.0f;
+    p.taaClipGamma = 0.5f;
+  }
   const bool withDepth = variant == "depth";
   auto f = makeFilter("steady", p);
   ASSERT_TRUE(f);
@@ -408,7 +412,7 @@ TEST_P(SteadyReference, MatchesCpuReference) {
 
 INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
                          ::testing::Values("default", "catmull", "interpolated", "rejectnoblur", "constant",
-                                           "depth"));
+                                           "depth", "wideclip"));
 
 // Confidence-weighted accumulation: with a static head and independent noise on every frame, the
 // weight 1/(n+1) averages N frames equally (noise sigma^2 / N) until the floor, where an
@@ -419,7 +423,7 @@ TEST_F(CoreTest, SteadyNoiseFallsLikeOneOverNToItsFloor) {
   // The accumulation alone: the footprint filter lowers white noise by itself, and the clip pulls
   // unlucky pixels towards their neighbours' mean (both measured below 1/N).
   p.steadyFootprint = 0.0f;
-  p.taaClipGamma = 1e3f;
+  p.steadyClipGamma = 1e3f;
   auto f = makeFilter("steady", p);
   ASSERT_TRUE(f);
   Rig rig(W, H);

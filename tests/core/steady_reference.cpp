@@ -87,7 +87,7 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
         float t = 0.0f;
         for (int ch = 0; ch < 3; ++ch)
           t = std::max(t, std::abs(h[ch] - mean[ch]) /
-                              std::sqrt(p.taaClipGamma * p.taaClipGamma * var[ch] + quantVar));
+                              std::sqrt(p.steadyClipGamma * p.steadyClipGamma * var[ch] + quantVar));
         const vec3 clipped = t > 1.0f ? mean + (h - mean) / t : h;
         float n = std::clamp(countAt(hist, q, catmull), 0.0f, maxCount);
         if (t > 1.0f && p.steadyClipRejects) n /= t * t;

@@ -1000,6 +1000,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
                          : steady                          ? kModeSteady
                                                            : kModeHybrid;
         if (steady) {  // uniforms of the steady mode (common.glsl, PassParams)
+          u.w0.y = params.steadyClipGamma;
           u.w0.z = params.steadyAlphaFloor;
           u.w0.w = params.steadyConfidence ? 1.0f : 0.0f;
           u.w1.x = params.steadyClipRejects ? 1.0f : 0.0f;

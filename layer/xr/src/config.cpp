@@ -110,6 +110,7 @@ constexpr FloatKey kFloatKeys[] = {
     {"steady_alpha_floor", &core::Params::steadyAlphaFloor, 0.001f, 1.0f, false},
     {"steady_blur_budget_px2", &core::Params::steadyBlurBudgetPx2, 0.0f, 100.0f, false},
     {"steady_footprint", &core::Params::steadyFootprint, 0.0f, 0.25f, false},
+    {"steady_clip_gamma", &core::Params::steadyClipGamma, 0.0f, 1000.0f, true},
     {"steady_nearest_depth_m", &core::Params::steadyNearestDepthM, 0.01f, 1.0e6f, false},
 };
 
