@@ -23,6 +23,8 @@ namespace steadyxr::cli {
 namespace {
 
 namespace fs = std::filesystem;
+using layer::lower;
+using layer::trim;
 
 constexpr const char* kUsage = R"(usage: steadyxr [--config FILE] COMMAND [ARGS]
 
@@ -54,19 +56,6 @@ stereo_depth_tolerance, stereo_beta_min, reset_angle_deg, reset_translation_m, h
 
 exit status: 0 done, 1 error (config untouched), 2 usage error.
 )";
-
-std::string trim(std::string_view s) {
-  size_t b = 0;
-  size_t e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return std::string(s.substr(b, e - b));
-}
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
 
 std::vector<std::string> splitLines(std::string_view text) {
   std::vector<std::string> lines;
@@ -439,15 +428,9 @@ bool writeFileAtomically(const std::string& path, const std::string& content, st
     *error = "cannot create " + tmp + ": " + std::generic_category().message(errno);
     return false;
   }
-  size_t done = 0;
-  while (done < content.size()) {
-    const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    done += static_cast<size_t>(n);
-  }
+  const bool written = layer::writeAll(fd, content);
   const int saved = errno;
-  const bool ok = done == content.size() && ::fsync(fd) == 0;
+  const bool ok = written && ::fsync(fd) == 0;
   ::close(fd);
   if (!ok || ::rename(tmp.c_str(), target.c_str()) != 0) {
     *error = "cannot write " + target.string() + ": " + std::generic_category().message(ok ? errno : saved);

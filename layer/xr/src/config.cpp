@@ -16,19 +16,6 @@
 namespace steadyxr::layer {
 namespace {
 
-std::string trim(std::string_view s) {
-  size_t b = 0;
-  size_t e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return std::string(s.substr(b, e - b));
-}
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
-
 // Keeps the first kMaxConfigMessages messages of the caller's list and counts the rest, which
 // it reports in one line when it goes out of scope: 10^6 bad lines must not mean 10^6 warnings.
 class MessageSink {
@@ -267,6 +254,19 @@ void checkWeights(Config& c, MessageSink& sink) {
 }
 
 }  // namespace
+
+std::string trim(std::string_view s) {
+  size_t b = 0;
+  size_t e = s.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+  return std::string(s.substr(b, e - b));
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
 
 std::string_view toString(LogLevel level) {
   switch (level) {

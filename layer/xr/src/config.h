@@ -53,6 +53,11 @@ struct ConfigText {
 using EnvLookup = std::function<std::optional<std::string>(const std::string& name)>;
 EnvLookup processEnvironment();
 
+// The parser's own text rules, shared with the `steadyxr` tool so both read a line the same way:
+// ASCII white space trimmed at both ends; keys compared in ASCII lower case.
+std::string trim(std::string_view s);
+std::string lower(std::string s);
+
 // Parses "key = value" lines, "# comments", "[application name]" sections. Malformed lines are
 // reported in *messages and skipped.
 ConfigText parseConfigText(std::string_view text, std::vector<std::string>* messages);

@@ -42,6 +42,17 @@ StatusFile::~StatusFile() {
   ::unlink(path_.c_str());
 }
 
+bool writeAll(int fd, std::string_view data) {
+  size_t done = 0;
+  while (done < data.size()) {
+    const ssize_t n = ::write(fd, data.data() + done, data.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += static_cast<size_t>(n);
+  }
+  return true;
+}
+
 bool StatusFile::write(const std::string& content, std::string* error) {
   const std::string tmp = path_ + ".tmp";
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0600);
@@ -49,15 +60,9 @@ bool StatusFile::write(const std::string& content, std::string* error) {
     if (error) *error = "cannot write " + tmp + ": " + errnoText();
     return false;
   }
-  size_t done = 0;
-  while (done < content.size()) {
-    const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    done += static_cast<size_t>(n);
-  }
+  const bool written = writeAll(fd, content);
   ::close(fd);
-  if (done != content.size() || ::rename(tmp.c_str(), path_.c_str()) != 0) {
+  if (!written || ::rename(tmp.c_str(), path_.c_str()) != 0) {
     if (error) *error = "cannot write " + path_ + ": " + errnoText();
     ::unlink(tmp.c_str());
     return false;

@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace steadyxr::layer {
@@ -38,6 +39,10 @@ class StatusFile {
 // the pid it names a process uniquely, so a status file left by a dead process is recognised
 // even when its pid was reused. nullopt when the process does not exist.
 std::optional<uint64_t> processStartTicks(long pid);
+
+// Writes all of `data` to `fd`, retrying short writes and EINTR; false on any other failure.
+// (The status file and the `steadyxr` tool's atomic config write both need it.)
+bool writeAll(int fd, std::string_view data);
 
 // "key=value" lines into a map (later keys win; other lines are skipped).
 std::map<std::string, std::string> parseStatus(const std::string& text);
