@@ -99,15 +99,7 @@ chmod 700 "$root$dir/xdg"
 env=(PATH=/usr/sbin:/usr/bin:/sbin:/bin HOME=/root XDG_RUNTIME_DIR=$dir/xdg
   VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.json
   XR_RUNTIME_JSON=/usr/share/openxr/1/openxr_monado.json XRT_NO_STDIN=1 XRT_COMPOSITOR_NULL=1)
-chroot "$root" /usr/bin/env -i "${env[@]}" monado-service >"$out/monado.log" 2>&1 &
-monado=$!
-pids+=("$monado")
-for _ in $(seq 300); do
-  grep -q "The Monado service has started" "$out/monado.log" && break
-  kill -0 "$monado" 2>/dev/null || break
-  sleep 0.1
-done
-grep -q "The Monado service has started" "$out/monado.log" || { tail "$out/monado.log"; fail "monado-service did not start"; exit 1; }
+e2e_start_monado "$root" "$out/monado.log" "${env[@]}" || { fail "monado-service did not start"; exit 1; }
 sleep "$seconds" | chroot "$root" /usr/bin/env -i "${env[@]}" STEADYXR_ENABLE=1 hello_xr -g Vulkan2 -vc Stereo \
   >"$out/hello_xr.log" 2>&1 &
 app=$!
@@ -138,8 +130,8 @@ grep -aq "loaded for 'HelloXR': enabled" "$out/hello_xr.log" || fail "the layer 
 left=$(ls -A "$root$dir/xdg/steadyxr" 2>/dev/null)
 [[ -z $left ]] || fail "status files left after the app exited: $left"
 cleanup_run() {
-  kill -TERM "$monado" 2>/dev/null
-  wait "$monado" 2>/dev/null
+  kill -TERM "$e2e_monado_pid" 2>/dev/null
+  wait "$e2e_monado_pid" 2>/dev/null
   pids=()
   rm -rf "${root:?}$dir"
 }

@@ -51,3 +51,22 @@ e2e_stop_pids() {
   done
   pids=()
 }
+
+# e2e_start_monado ROOT LOG ENV...: starts monado-service inside ROOT with exactly the
+# environment ENV (its pid joins `pids` and is left in `e2e_monado_pid`) and waits up to 30 s for it to say it has started.
+# Returns 1, after printing the log's tail, when it did not.
+e2e_start_monado() {
+  local root=$1 log=$2
+  shift 2
+  chroot "$root" /usr/bin/env -i "$@" monado-service >"$log" 2>&1 &
+  e2e_monado_pid=$!
+  pids+=("$e2e_monado_pid")
+  for _ in $(seq 300); do
+    grep -q "The Monado service has started" "$log" && return 0
+    kill -0 "$e2e_monado_pid" 2>/dev/null || break
+    sleep 0.1
+  done
+  grep -q "The Monado service has started" "$log" && return 0
+  tail -n 20 "$log"
+  return 1
+}

@@ -124,18 +124,8 @@ run_case() {
   else
     env+=(XRT_COMPOSITOR_NULL=1)
   fi
-  chroot "$root" /usr/bin/env -i "${env[@]}" monado-service >"$hdir/monado.log" 2>&1 &
-  local monado=$!
-  pids+=("$monado")
-  local started=0
-  for _ in $(seq 300); do
-    if grep -q "The Monado service has started" "$hdir/monado.log"; then started=1; break; fi
-    kill -0 "$monado" 2>/dev/null || break
-    sleep 0.1
-  done
-  if ((started == 0)); then
-    fail "monado-service did not start; log:"
-    tail -n 20 "$hdir/monado.log"
+  if ! e2e_start_monado "$root" "$hdir/monado.log" "${env[@]}"; then
+    fail "monado-service did not start"
     cleanup
     return
   fi

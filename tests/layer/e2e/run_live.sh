@@ -51,16 +51,8 @@ fail() {
 env=(PATH=/usr/sbin:/usr/bin:/sbin:/bin HOME=/root XDG_RUNTIME_DIR=$dir/xdg
   VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.json
   XR_RUNTIME_JSON=/usr/share/openxr/1/openxr_monado.json XRT_NO_STDIN=1 XRT_COMPOSITOR_NULL=1)
-chroot "$root" /usr/bin/env -i "${env[@]}" monado-service >"$out/monado.log" 2>&1 &
-monado=$!
-pids+=("$monado")
 phase=start
-for _ in $(seq 300); do
-  grep -q "The Monado service has started" "$out/monado.log" && break
-  kill -0 "$monado" 2>/dev/null || break
-  sleep 0.1
-done
-grep -q "The Monado service has started" "$out/monado.log" || { fail "monado-service did not start"; exit 1; }
+e2e_start_monado "$root" "$out/monado.log" "${env[@]}" || { fail "monado-service did not start"; exit 1; }
 
 # hello_xr runs until its standard input closes: a FIFO this script holds open (fd 7).
 mkfifo "$host/stdin"

@@ -56,18 +56,8 @@ run() {
   local env=(PATH=/usr/sbin:/usr/bin:/sbin:/bin HOME=/root VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json
     VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.json XR_RUNTIME_JSON=/usr/share/openxr/1/openxr_monado.json
     XRT_NO_STDIN=1 XDG_RUNTIME_DIR=$dir/xdg XRT_COMPOSITOR_NULL=1)
-  chroot "$root" /usr/bin/env -i "${env[@]}" monado-service >"$hdir/monado.log" 2>&1 &
-  local monado=$!
-  pids+=("$monado")
-  local started=0
-  for _ in $(seq 300); do
-    if grep -q "The Monado service has started" "$hdir/monado.log"; then started=1; break; fi
-    kill -0 "$monado" 2>/dev/null || break
-    sleep 0.1
-  done
-  if ((started == 0)); then
+  if ! e2e_start_monado "$root" "$hdir/monado.log" "${env[@]}"; then
     fail "monado-service did not start"
-    tail -n 20 "$hdir/monado.log"
     cleanup
     return
   fi
