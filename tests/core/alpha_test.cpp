@@ -12,11 +12,13 @@
 
 #include "gpu_image.h"
 #include "steadyxr/core/filter.h"
+#include "validated_context_test.h"
 
 using namespace steadyxr;
 using namespace steadyxr::core;
 using test::GpuImage;
 using test::HostImage;
+using test::ValidatedContextTest;
 
 namespace {
 
@@ -67,25 +69,8 @@ struct FormatCase {
 
 }  // namespace
 
-class AlphaTest : public ::testing::Test {
+class AlphaTest : public ValidatedContextTest {
  protected:
-  static void SetUpTestSuite() {
-    OwnedContextOptions o;
-    o.enableValidation = std::getenv("STEADYXR_NO_VALIDATION") == nullptr;
-    std::string err;
-    ctx_ = VulkanContext::createOwned(o, &err);
-    ASSERT_TRUE(ctx_) << err;
-  }
-  static void TearDownTestSuite() { ctx_.reset(); }
-  void SetUp() override {
-    ASSERT_TRUE(ctx_);
-    before_ = ctx_->validationMessageCount();
-  }
-  void TearDown() override {
-    const auto msgs = ctx_->validationMessages();
-    EXPECT_EQ(msgs.size(), before_) << "validation: " << (msgs.size() > before_ ? msgs[before_] : "");
-  }
-
   // Runs `frames` frames of `method` with a small head turn and returns the mismatch count of
   // alpha (or all four channels when `allChannels`) between every output and its input.
   int mismatches(const std::string& method, const FormatCase& fc, int frames, bool allChannels) {
@@ -138,11 +123,7 @@ class AlphaTest : public ::testing::Test {
     }
     return bad;
   }
-
-  static std::unique_ptr<VulkanContext> ctx_;
-  size_t before_ = 0;
 };
-std::unique_ptr<VulkanContext> AlphaTest::ctx_;
 
 TEST_F(AlphaTest, EveryMethodOutputsTheInputAlphaExactly) {
   const FormatCase cases[] = {

@@ -14,6 +14,7 @@
 #include "reference.h"
 #include "steadyxr/core/filter.h"
 #include "steadyxr/core/view_math.h"
+#include "validated_context_test.h"
 
 using namespace steadyxr;
 using namespace steadyxr::core;
@@ -156,32 +157,17 @@ RefView eye(float yawDeg, float pitchDeg, glm::vec3 pos = glm::vec3(0)) {
 
 }  // namespace
 
-class CoreTest : public ::testing::Test {
+class CoreTest : public test::ValidatedContextTest {
  protected:
   static void SetUpTestSuite() {
-    OwnedContextOptions o;
-    o.enableValidation = std::getenv("STEADYXR_NO_VALIDATION") == nullptr;
-    std::string err;
-    ctx_ = VulkanContext::createOwned(o, &err);
-    ASSERT_TRUE(ctx_) << err;
+    ValidatedContextTest::SetUpTestSuite();
     gCtx = ctx_.get();
   }
   static void TearDownTestSuite() {
     gCtx = nullptr;
-    ctx_.reset();
+    ValidatedContextTest::TearDownTestSuite();
   }
-  void SetUp() override {
-    ASSERT_TRUE(ctx_);
-    before_ = ctx_->validationMessageCount();
-  }
-  void TearDown() override {
-    const auto msgs = ctx_->validationMessages();
-    EXPECT_EQ(msgs.size(), before_) << "validation: " << (msgs.size() > before_ ? msgs[before_] : "");
-  }
-  static std::unique_ptr<VulkanContext> ctx_;
-  size_t before_ = 0;
 };
-std::unique_ptr<VulkanContext> CoreTest::ctx_;
 
 TEST_F(CoreTest, ContextPicksCpuDeviceAndHasTimestamps) {
   EXPECT_TRUE(ctx_->owned());
