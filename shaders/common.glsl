@@ -33,31 +33,55 @@ layout(set = 0, binding = 3) uniform sampler2D uDepth1;  // other eye's depth
 layout(set = 0, binding = 4, rgba16f) uniform writeonly image2D uHistOut;
 layout(set = 0, binding = 5, OUT_FORMAT) uniform writeonly image2D uOut;
 
-// Must match PassUniforms in filter.cpp (std140).
 // This eye's input as the app submitted it: the alpha of every output (alphaOf). The history's
 // alpha is the temporal method's own (steady: its sample count).
 layout(set = 0, binding = 7) uniform sampler2D uAppInput;
 
+// Normalised depth n -> 1/z: 1/z = invNear + n * invFarMinusInvNear, n = (d - minDepth) *
+// invDepthRange (invZFromDepth).
+struct DepthToInvZ {
+  float invNear;
+  float invFarMinusInvNear;
+  float minDepth;
+  float invDepthRange;
+};
+
+// Must match PassUniforms in layer/core/src/pass_uniforms.h (std140; offsets checked there).
+// A pass ignores the members it does not need; per-pipeline switches are the constants above.
 layout(set = 0, binding = 6, std140) uniform PassParams {
-  mat4 reproj[4];     // (x, y, 1, 1/z) of this pixel -> homogeneous pixel coords in src1's rect
-  vec4 sampleW;       // W(d_i), seed 003 Eq. 2
-  ivec4 src0Rect;     // xy offset, zw size (size is also the dispatch size)
-  vec4 src0InvExtent; // xy 1/extent of src0's image
-  ivec4 src1Rect;
-  vec4 src1InvExtent;
-  ivec4 depthOffset;  // xy depth0 rect offset, zw depth1 rect offset
-  vec4 depth0;        // 1/nearZ, 1/farZ - 1/nearZ, minDepth, 1/(maxDepth-minDepth)
-  vec4 depth1;
-  vec4 w0;            // taaAlpha, clipGamma, alphaMin, shape S of Eq. 4 (1 = h > h_max); steady:
-                      // its own clip gamma, alpha floor in place of alphaMin, confidence (0/1)
-                      // in place of S
-  vec4 w1;            // wMin, wLowerBound, depthTolerance, fallback 1/z (no depth); steady:
-                      // clipRejects (0/1), 1/blur budget (0 = off) in place of wMin, wLowerBound
-  ivec4 flags;        // (mode), (sampleCount), historyValid, (writeOut); () = spec constant now
-  ivec4 flags2;       // (encodeSrgb), (swapRB), (writeHist), (hasDepth)
-  ivec4 outOffset;    // xy where pixel (0,0) goes in uOut; zw: uAppInput's rect offset
-  vec4 jitter;        // xy: src0's grid offset in pixels (its pixel c - jitter holds our pixel c);
-                      // z (steady): the reprojection's parallax spread without depth, px^2
+  // (x, y, 1, 1/z) of this pixel -> homogeneous pixel coords in src1's rect: temporal, the
+  // previous pose or the interpolated poses of seed 003 Eq. 1; stereo, [0] the other eye.
+  mat4 reproj[4];
+  vec4 sampleWeights;       // W(d_i), seed 003 Eq. 2, one per reprojection
+  ivec2 src0Offset;         // src0's rect in its image; its size is also the dispatch size
+  ivec2 src0Size;
+  vec2 src0InvExtent;       // 1 / src0's image extent
+  ivec2 src1Offset;         // src1's rect: the history (temporal) or the other eye (stereo)
+  ivec2 src1Size;
+  vec2 src1InvExtent;
+  DepthToInvZ depth0;       // this eye's depth
+  DepthToInvZ depth1;       // the other eye's depth (stereo)
+  ivec2 depth0Offset;
+  ivec2 depth1Offset;
+  ivec2 outOffset;          // where pixel (0,0) goes in uOut
+  ivec2 appInputOffset;     // uAppInput's rect offset (its size is src0's)
+  vec2 jitterPx;            // src0's grid offset in pixels (its pixel c - jitter holds our pixel c)
+  float parallaxSpreadPx2;  // steady without depth: the reprojection's parallax spread, px^2
+  int historyValid;         // temporal: 0 after a reset or an invalid pose
+  float taaAlpha;           // taa: weight of the current frame; steady: its constant alpha (ablation)
+  float clipGamma;          // variance clip box mean +- gamma*sigma (taa, hybrid, stereo; steady's own)
+  float alphaMin;           // vtaa, hybrid: lower clamp of alpha' (seed 002 Eq. 4)
+  float shapeS;             // hmtaa, hybrid: S of seed 003 Eq. 4 (A(h) with w_min = 0); 1: h > h_max
+  float wMin;               // hmtaa: w_min of seed 003 Eq. 5
+  float wLowerBound;        // hmtaa: w_lb of seed 003 Eq. 5
+  float fallbackInvZ;       // 1/z assumed without depth (1 / stereoFarDistanceM, 0 = infinity)
+  float stereoDepthTolerance;    // stereo: relative depth difference that rejects the other eye
+  float stereoBetaMin;           // stereo: lower clamp of beta (seed 002 Eq. 4)
+  float steadyAlphaFloor;        // steady: alpha >= this; 1/floor caps the sample count
+  float steadyConfidence;        // steady: 1 = alpha from the sample count, 0 = taaAlpha
+  float steadyClipRejects;       // steady: 1 = a clip by t sigma divides the count by t^2 (mix weight)
+  float steadyInvBlurBudgetPx2;  // steady: 1 / blur budget (0 = no bound)
+  float steadyFootprint;         // steady: k of the [k, 1 - 2k, k]^2 footprint filter (0 = off)
 } P;
 
 vec3 sanitize(vec3 c) {
@@ -67,13 +91,13 @@ vec3 sanitize(vec3 c) {
 }
 
 vec3 fetchSrc0(ivec2 p) {
-  p = clamp(p, ivec2(0), P.src0Rect.zw - 1);
+  p = clamp(p, ivec2(0), P.src0Size - 1);
   vec3 c;
   if (kJitter) {  // un-jitter: bilinear at our pixel centre on src0's grid, inside its rect
-    vec2 q = clamp(vec2(p) + 0.5 - P.jitter.xy, vec2(0.5), vec2(P.src0Rect.zw) - 0.5);
-    c = textureLod(uSrc0, (vec2(P.src0Rect.xy) + q) * P.src0InvExtent.xy, 0.0).rgb;
+    vec2 q = clamp(vec2(p) + 0.5 - P.jitterPx, vec2(0.5), vec2(P.src0Size) - 0.5);
+    c = textureLod(uSrc0, (vec2(P.src0Offset) + q) * P.src0InvExtent, 0.0).rgb;
   } else {
-    c = texelFetch(uSrc0, P.src0Rect.xy + p, 0).rgb;
+    c = texelFetch(uSrc0, P.src0Offset + p, 0).rgb;
   }
   return (kCleanSrc & 1) != 0 ? c : sanitize(c);
 }
@@ -145,8 +169,8 @@ void windowSums(ivec2 o, bool withCross, out vec3 s1, out vec3 s2, out vec3 sx) 
 // Bilinear sample of src1 at continuous pixel coords q (pixel centres at +0.5) of its rect.
 // The alpha comes along unsanitised: only the history's (our own, finite) alpha is ever used.
 vec4 sampleSrc1Rgba(vec2 q) {
-  q = clamp(q, vec2(0.5), vec2(P.src1Rect.zw) - 0.5);
-  vec4 c = textureLod(uSrc1, (vec2(P.src1Rect.xy) + q) * P.src1InvExtent.xy, 0.0);
+  q = clamp(q, vec2(0.5), vec2(P.src1Size) - 0.5);
+  vec4 c = textureLod(uSrc1, (vec2(P.src1Offset) + q) * P.src1InvExtent, 0.0);
   return vec4((kCleanSrc & 2) != 0 ? c.rgb : sanitize(c.rgb), c.a);
 }
 vec3 sampleSrc1(vec2 q) { return sampleSrc1Rgba(q).rgb; }
@@ -157,7 +181,7 @@ vec3 sampleSrc1(vec2 q) { return sampleSrc1Rgba(q).rgb; }
 // of sub-pixel head tremor, and the blur accumulates; Catmull-Rom keeps it sharp. Its negative
 // lobes can overshoot, so the result is clamped at 0 (the clip that follows bounds the rest).
 vec4 sampleSrc1CatmullRom(vec2 q) {
-  q = clamp(q, vec2(0.5), vec2(P.src1Rect.zw) - 0.5);
+  q = clamp(q, vec2(0.5), vec2(P.src1Size) - 0.5);
   vec2 pos = q - 0.5;  // texel centres at integers
   vec2 c = floor(pos);
   vec2 f = pos - c;
@@ -166,9 +190,9 @@ vec4 sampleSrc1CatmullRom(vec2 q) {
   vec2 w2 = f * (0.5 + f * (2.0 - 1.5 * f));
   vec2 w3 = f * f * (-0.5 + 0.5 * f);
   vec2 w12 = w1 + w2;
-  vec2 t0 = (vec2(P.src1Rect.xy) + c - 0.5) * P.src1InvExtent.xy;  // centre of texel c - 1
-  vec2 t3 = (vec2(P.src1Rect.xy) + c + 2.5) * P.src1InvExtent.xy;  // centre of texel c + 2
-  vec2 t12 = (vec2(P.src1Rect.xy) + c + 0.5 + w2 / w12) * P.src1InvExtent.xy;
+  vec2 t0 = (vec2(P.src1Offset) + c - 0.5) * P.src1InvExtent;  // centre of texel c - 1
+  vec2 t3 = (vec2(P.src1Offset) + c + 2.5) * P.src1InvExtent;  // centre of texel c + 2
+  vec2 t12 = (vec2(P.src1Offset) + c + 0.5 + w2 / w12) * P.src1InvExtent;
   vec4 r = textureLod(uSrc1, vec2(t12.x, t0.y), 0.0) * (w12.x * w0.y) +
            textureLod(uSrc1, vec2(t0.x, t12.y), 0.0) * (w0.x * w12.y) +
            textureLod(uSrc1, t12, 0.0) * (w12.x * w12.y) +
@@ -192,9 +216,9 @@ vec3 clipToBox(vec3 h, vec3 mn, vec3 ext2) {
   return mx2 > 1.0 ? mn + d * inversesqrt(mx2) : h;
 }
 
-float invZFromDepth(float d, vec4 dp) {
-  float n = clamp((d - dp.z) * dp.w, 0.0, 1.0);
-  return max(dp.x + n * dp.y, 0.0);  // 1/z is linear in the stored depth
+float invZFromDepth(float d, DepthToInvZ m) {
+  float n = clamp((d - m.minDepth) * m.invDepthRange, 0.0, 1.0);
+  return max(m.invNear + n * m.invFarMinusInvNear, 0.0);  // 1/z is linear in the stored depth
 }
 
 float linearToSrgb1(float c) {
@@ -208,7 +232,7 @@ float linearToSrgb1(float c) {
 // app's input alpha at the same pixel (uAppInput: also in the stereo pass, whose src0 is then
 // this frame's history). (Unpremultiplied layers: layer/xr/README.md.)
 float alphaOf(ivec2 p) {
-  return texelFetch(uAppInput, P.outOffset.zw + clamp(p, ivec2(0), P.src0Rect.zw - 1), 0).a;
+  return texelFetch(uAppInput, P.appInputOffset + clamp(p, ivec2(0), P.src0Size - 1), 0).a;
 }
 
 // After fxaa the history is only the stereo pass's src0; its alpha goes unread.
@@ -221,7 +245,7 @@ void storeOutput(ivec2 p, vec4 o) {
     o.rgb = vec3(linearToSrgb1(o.r), linearToSrgb1(o.g), linearToSrgb1(o.b));
   }
   if (kSwapRB) o = o.bgra;
-  imageStore(uOut, P.outOffset.xy + p, o);
+  imageStore(uOut, P.outOffset + p, o);
 }
 
 void writeOutput(ivec2 p, vec3 c) { storeOutput(p, vec4(c, alphaOf(p))); }
@@ -234,6 +258,6 @@ bool reproject(mat4 m, vec2 pc, float invZ, out vec2 q, out float invZOther) {
   if (!(h.z > 1e-12)) return false;
   q = h.xy / h.z;
   invZOther = h.w / h.z;
-  vec2 size = vec2(P.src1Rect.zw);
+  vec2 size = vec2(P.src1Size);
   return all(greaterThanEqual(q, vec2(0.0))) && all(lessThanEqual(q, size));
 }

@@ -5,10 +5,10 @@
 #include "common.glsl"
 
 void processPixel(ivec2 p, ivec2 o) {
-  const bool inRange = all(lessThan(p, P.src0Rect.zw));
+  const bool inRange = all(lessThan(p, P.src0Size));
   // The output is the input texel as is (`none` is a bit-exact pass-through, alpha included);
   // only the history, which later passes blend, is sanitised.
-  vec4 texel = texelFetch(uSrc0, P.src0Rect.xy + clamp(p, ivec2(0), P.src0Rect.zw - 1), 0);
+  vec4 texel = texelFetch(uSrc0, P.src0Offset + clamp(p, ivec2(0), P.src0Size - 1), 0);
   if (inRange) {
     if (kWriteHist) imageStore(uHistOut, p, vec4((kCleanSrc & 1) != 0 ? texel.rgb : sanitize(texel.rgb), texel.a));
     if (kWriteOut) storeOutput(p, texel);
@@ -17,6 +17,6 @@ void processPixel(ivec2 p, ivec2 o) {
 
 void main() {
   ivec2 base = ivec2(gl_GlobalInvocationID.xy) * ivec2(kBlockW, kBlockH);
-  if (any(greaterThanEqual(base, P.src0Rect.zw))) return;
+  if (any(greaterThanEqual(base, P.src0Size))) return;
   PROCESS_BLOCK(base);
 }

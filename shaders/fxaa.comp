@@ -15,15 +15,15 @@ const int kSteps = 8;
 const float kStep[8] = float[8](1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0);
 
 vec3 sampleAt(vec2 q) {  // bilinear in src0's rect, q in pixel units (centres at +0.5)
-  q = clamp(q, vec2(0.5), vec2(P.src0Rect.zw) - 0.5);
-  return sanitize(textureLod(uSrc0, (vec2(P.src0Rect.xy) + q) * P.src0InvExtent.xy, 0.0).rgb);
+  q = clamp(q, vec2(0.5), vec2(P.src0Size) - 0.5);
+  return sanitize(textureLod(uSrc0, (vec2(P.src0Offset) + q) * P.src0InvExtent, 0.0).rgb);
 }
 float luma(vec3 c) { return sqrt(max(dot(c, vec3(0.299, 0.587, 0.114)), 0.0)); }
 float lumaAt(vec2 q) { return luma(sampleAt(q)); }
 
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(p, P.src0Rect.zw))) return;
+  if (any(greaterThanEqual(p, P.src0Size))) return;
   vec2 pc = vec2(p) + 0.5;
   vec3 rgbM = fetchSrc0(p);
   float lM = luma(rgbM);

@@ -9,7 +9,7 @@
 
 // Branch-free around texture reads, the store skipped past the edge (see PROCESS_BLOCK).
 void processPixel(ivec2 p, ivec2 o) {
-  ivec2 size = P.src0Rect.zw;
+  ivec2 size = P.src0Size;
   const bool inRange = all(lessThan(p, size));
   vec3 y = blockAt(o, 0, 0);
   vec3 s1, s2, sx;
@@ -19,27 +19,27 @@ void processPixel(ivec2 p, ivec2 o) {
 
   bool hasThis = (kDepthBits & 1) != 0;
   bool hasOther = (kDepthBits & 2) != 0;
-  float invZ = P.w1.w;
+  float invZ = P.fallbackInvZ;
   if (hasThis)
-    invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + min(p, size - 1), 0).r, P.depth0);
+    invZ = invZFromDepth(texelFetch(uDepth0, P.depth0Offset + min(p, size - 1), 0).r, P.depth0);
 
   vec2 q;
   float izExpected;
   bool ok = reproject(P.reproj[0], vec2(p) + 0.5, invZ, q, izExpected);
   if (hasThis && hasOther) {
-    ivec2 qi = clamp(ivec2(floor(q)), ivec2(0), P.src1Rect.zw - 1);
-    float izOther = invZFromDepth(texelFetch(uDepth1, P.depthOffset.zw + qi, 0).r, P.depth1);
+    ivec2 qi = clamp(ivec2(floor(q)), ivec2(0), P.src1Size - 1);
+    float izOther = invZFromDepth(texelFetch(uDepth1, P.depth1Offset + qi, 0).r, P.depth1);
     // Relative depth difference |z_e - z_o| / z_e = |iz_o - iz_e| / iz_o (infinite depths match).
-    ok = ok && abs(izOther - izExpected) <= P.w1.z * izOther + 1e-7;
+    ok = ok && abs(izOther - izExpected) <= P.stereoDepthTolerance * izOther + 1e-7;
   }
   // The box always holds this eye's own pixel: identical eyes stay unchanged.
   vec3 dy = y - mn;
-  vec3 x = clipToBox(sampleSrc1(q), mn, max(P.w0.y * P.w0.y * var, dy * dy) + 1e-12);
+  vec3 x = clipToBox(sampleSrc1(q), mn, max(P.clipGamma * P.clipGamma * var, dy * dy) + 1e-12);
   float sigma2 = (var.r + var.g + var.b) * (1.0 / 3.0);
   vec3 d = x - mn;
   float e = dot(d, d) * (1.0 / 3.0) + sigma2;
   float beta = e > 1e-12 ? 1.0 - sigma2 / e : 0.0;
-  beta = clamp(beta, P.w0.z, 1.0);
+  beta = clamp(beta, P.stereoBetaMin, 1.0);
   vec3 result = ok ? mix(x, y, beta) : y;
   if (any(isnan(result)) || any(isinf(result))) result = y;
   if (inRange) writeOutput(p, result);
@@ -47,7 +47,7 @@ void processPixel(ivec2 p, ivec2 o) {
 
 void main() {
   ivec2 base = ivec2(gl_GlobalInvocationID.xy) * ivec2(kBlockW, kBlockH);
-  if (any(greaterThanEqual(base, P.src0Rect.zw))) return;
+  if (any(greaterThanEqual(base, P.src0Size))) return;
   loadBlock(base, false);
   PROCESS_BLOCK(base);
 }

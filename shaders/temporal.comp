@@ -39,10 +39,10 @@ void addSample(mat4 m, float w, vec2 pc, float invZ, inout vec3 past, inout floa
 bool pastColour(vec2 pc, float invZ, out vec3 past) {
   past = vec3(0.0);
   float wsum = 0.0;
-  addSample(P.reproj[0], P.sampleW[0], pc, invZ, past, wsum);
-  if (kSampleCount > 1) addSample(P.reproj[1], P.sampleW[1], pc, invZ, past, wsum);
-  if (kSampleCount > 2) addSample(P.reproj[2], P.sampleW[2], pc, invZ, past, wsum);
-  if (kSampleCount > 3) addSample(P.reproj[3], P.sampleW[3], pc, invZ, past, wsum);
+  addSample(P.reproj[0], P.sampleWeights[0], pc, invZ, past, wsum);
+  if (kSampleCount > 1) addSample(P.reproj[1], P.sampleWeights[1], pc, invZ, past, wsum);
+  if (kSampleCount > 2) addSample(P.reproj[2], P.sampleWeights[2], pc, invZ, past, wsum);
+  if (kSampleCount > 3) addSample(P.reproj[3], P.sampleWeights[3], pc, invZ, past, wsum);
   past = wsum > 0.0 ? past * (1.0 / wsum) : vec3(0.0);  // renormalise over the samples inside the image
   return wsum > 0.0;
 }
@@ -54,21 +54,21 @@ float varianceAlpha(vec3 x, vec3 mean, vec3 var) {
   vec3 d = x - mean;
   float e = dot(d, d) * (1.0 / 3.0) + s2;
   float a = e > 1e-12 ? 1.0 - s2 / e : 0.0;
-  return clamp(a, P.w0.z, 1.0);
+  return clamp(a, P.alphaMin, 1.0);
 }
 
 // Branch-free around texture reads, stores skipped past the edge (see PROCESS_BLOCK).
 void processPixel(ivec2 p, ivec2 o) {
-  ivec2 size = P.src0Rect.zw;
+  ivec2 size = P.src0Size;
   const bool inRange = all(lessThan(p, size));
   const int mode = kMode;
   const bool neighbourhood = mode != kHmtaa;
   vec2 pc = vec2(p) + 0.5;
   vec3 cur = neighbourhood ? blockAt(o, 0, 0) : fetchSrc0(p);
 
-  float invZ = P.w1.w;
+  float invZ = P.fallbackInvZ;
   if ((kDepthBits & 1) != 0)
-    invZ = invZFromDepth(texelFetch(uDepth0, P.depthOffset.xy + min(p, size - 1), 0).r, P.depth0);
+    invZ = invZFromDepth(texelFetch(uDepth0, P.depth0Offset + min(p, size - 1), 0).r, P.depth0);
 
   vec3 mn = vec3(0.0), var = vec3(0.0);  // taa: YCoCg; vtaa, hybrid: RGB
   vec3 ymn = vec3(0.0), yvar = vec3(0.0);  // hybrid: YCoCg moments for the history clip
@@ -89,9 +89,9 @@ void processPixel(ivec2 p, ivec2 o) {
     }
     if (mode == kHybrid || mode == kSteady) {
       // [k, 1 - 2k, k]^2: centre, edge neighbours, corners (the rest of the 3x3 sum). Hybrid:
-      // k = 1/16. Steady: k = w1.z (Params::steadyFootprint, 1/24: the second moment of the
-      // pixel's box footprint; 0 = off).
-      const float k = mode == kHybrid ? 1.0 / 16.0 : P.w1.z;
+      // k = 1/16. Steady: k = steadyFootprint (Params::steadyFootprint, 1/24: the second moment
+      // of the pixel's box footprint; 0 = off).
+      const float k = mode == kHybrid ? 1.0 / 16.0 : P.steadyFootprint;
       vec3 edges = blockAt(o, -1, 0) + blockAt(o, 1, 0) + blockAt(o, 0, -1) + blockAt(o, 0, 1);
       fc = (1.0 - 2.0 * k) * (1.0 - 2.0 * k) * cur + k * (1.0 - 2.0 * k) * edges + k * k * (s1 - cur - edges);
     }
@@ -99,7 +99,7 @@ void processPixel(ivec2 p, ivec2 o) {
 
   vec3 result = cur;
   float count = 1.0;  // the history's alpha: steady's sample count, 1 for the other modes
-  const bool historyValid = P.flags.z != 0;
+  const bool historyValid = P.historyValid != 0;
   if (mode == kSteady) {
     // Steady (README, method): the history reprojected through the exact previous render pose
     // (reproj[0]); clipped to the YCoCg box mean +- gamma*sigma of the current 3x3; blended with
@@ -110,17 +110,18 @@ void processPixel(ivec2 p, ivec2 o) {
     const bool confirmed = reproject(P.reproj[0], pc, invZ, q, iz) && historyValid;
     vec4 hs = sampleHistoryRgba(q);  // q is clamped into the image inside
     vec3 d = toYCoCg(hs.rgb) - ymn;
-    vec3 t2v = d * d / (P.w0.y * P.w0.y * yvar + kQuantVar);
+    vec3 t2v = d * d / (P.clipGamma * P.clipGamma * yvar + kQuantVar);
     float t2 = max(t2v.x, max(t2v.y, t2v.z));
     vec3 h = t2 > 1.0 ? ymn + d * inversesqrt(t2) : ymn + d;
-    const float cap = 1.0 / P.w0.z;
+    const float cap = 1.0 / P.steadyAlphaFloor;
     float n = confirmed ? clamp(hs.a, 0.0, cap) : 0.0;
-    n *= t2 > 1.0 ? mix(1.0, 1.0 / t2, P.w1.x) : 1.0;
-    float a = max(1.0 / (n + 1.0), P.w0.z);
+    n *= t2 > 1.0 ? mix(1.0, 1.0 / t2, P.steadyClipRejects) : 1.0;
+    float a = max(1.0 / (n + 1.0), P.steadyAlphaFloor);
     vec2 f = fract(q - 0.5);                // bilinear tap offset within the texel
-    float blur = (dot(f, 1.0 - f) + P.jitter.z) * P.w1.y;  // added blur variance / budget
+    // The added blur variance over the budget.
+    float blur = (dot(f, 1.0 - f) + P.parallaxSpreadPx2) * P.steadyInvBlurBudgetPx2;
     a = max(a, blur / (blur + 1.0));        // steady-state blur (1 - a) / a * v <= budget
-    a = P.w0.w > 0.5 ? a : P.w0.x;          // ablation: constant alpha
+    a = P.steadyConfidence > 0.5 ? a : P.taaAlpha;  // ablation: constant alpha
     a = confirmed ? a : 1.0;
     cur = fc;
     // Select, not mix, when unconfirmed: a never-written history may hold NaN (and max(NaN, 0) is 0).
@@ -130,9 +131,10 @@ void processPixel(ivec2 p, ivec2 o) {
     vec2 q;
     float iz;
     bool inside = reproject(P.reproj[0], pc, invZ, q, iz);
-    // Variance clipping: clip the history towards the mean onto the box mean +- gamma*sigma.
-    vec3 h = clipToBox(toYCoCg(sampleHistory(q)), mn, P.w0.y * P.w0.y * var + 1e-12);
-    vec3 blended = max(mix(fromYCoCg(h), cur, P.w0.x), vec3(0.0));
+    // Variance clipping (seed 001 §4.4): clip the history towards the mean onto the box
+    // mean +- gamma*sigma, then blend with the constant weight taaAlpha.
+    vec3 h = clipToBox(toYCoCg(sampleHistory(q)), mn, P.clipGamma * P.clipGamma * var + 1e-12);
+    vec3 blended = max(mix(fromYCoCg(h), cur, P.taaAlpha), vec3(0.0));
     result = historyValid && inside ? blended : cur;
   } else {
     vec3 past;
@@ -144,8 +146,8 @@ void processPixel(ivec2 p, ivec2 o) {
       // Seed 003 Eq. 5 then Eq. 4 with the localised w'_min (shape S computed on the CPU).
       vec3 dc = cur - past;
       float cdiff = clamp(sqrt(dot(dc, dc) * (1.0 / 3.0)), 0.0, 1.0);
-      float wmin = P.w1.x - (P.w1.x - P.w1.y) * cdiff;
-      a = P.w0.w >= 1.0 ? 1.0 : P.w0.w * (1.0 - wmin) + wmin;  // h > h_max: the current frame
+      float wmin = P.wMin - (P.wMin - P.wLowerBound) * cdiff;
+      a = P.shapeS >= 1.0 ? 1.0 : P.shapeS * (1.0 - wmin) + wmin;  // h > h_max: the current frame
     } else {
       // Hybrid. (1) taa's variance clipping of the history to the YCoCg box mean +- gamma*sigma
       // of the current 3x3 (gamma = taaClipGamma): stops ghosting of moving objects and
@@ -153,11 +155,13 @@ void processPixel(ivec2 p, ivec2 o) {
       // below A(h) of seed 003 Eq. 4 with w_min = alphaMin. (3) The current frame enters through
       // a [1/16, 7/8, 1/16]^2 footprint filter: the target is the pixel-area average and a lone
       // centre sample is sharper than that (measured: lower RMSE on thin/high-contrast detail).
-      past = max(fromYCoCg(clipToBox(toYCoCg(past), ymn, P.w0.y * P.w0.y * yvar + 1e-12)), vec3(0.0));
-      float ah = P.w0.w * (1.0 - P.w0.z) + P.w0.z;
-      a = P.w0.w >= 1.0 ? 1.0 : max(varianceAlpha(past, mn, var), ah);  // h > h_max: current frame
+      vec3 clipExt2 = P.clipGamma * P.clipGamma * yvar + 1e-12;
+      past = max(fromYCoCg(clipToBox(toYCoCg(past), ymn, clipExt2)), vec3(0.0));
+      float ah = P.shapeS * (1.0 - P.alphaMin) + P.alphaMin;
+      a = P.shapeS >= 1.0 ? 1.0 : max(varianceAlpha(past, mn, var), ah);  // h > h_max: current frame
       cur = a < 1.0 ? fc : cur;
     }
+    // Seed 003 Eq. 3 (and seed 002's lerp(X, Y, alpha)): a is the weight of the current frame.
     result = hasPast ? (a >= 1.0 ? cur : mix(past, cur, a)) : result;
   }
   if (any(isnan(result)) || any(isinf(result))) {
@@ -174,7 +178,7 @@ void processPixel(ivec2 p, ivec2 o) {
 
 void main() {
   ivec2 base = ivec2(gl_GlobalInvocationID.xy) * ivec2(kBlockW, kBlockH);
-  if (any(greaterThanEqual(base, P.src0Rect.zw))) return;
+  if (any(greaterThanEqual(base, P.src0Size))) return;
   if (kMode != kHmtaa) loadBlock(base, kMode == kTaa || kMode == kHybrid || kMode == kSteady);
   PROCESS_BLOCK(base);
 }

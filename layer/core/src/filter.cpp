@@ -16,6 +16,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 
+#include "pass_uniforms.h"
 #include "steadyxr/core/view_math.h"
 #include "steadyxr/core/vk_handle.h"
 #include "steadyxr/shaders/copy_rgba16f_spv.h"
@@ -54,25 +55,17 @@ constexpr VkDescriptorType descriptorType(uint32_t binding) {
                                      : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
 }
 
-// Mirrors PassParams in shaders/common.glsl (std140: every member is 16-byte aligned).
-struct PassUniforms {
-  glm::mat4 reproj[4];
-  glm::vec4 sampleW;
-  glm::ivec4 src0Rect;
-  glm::vec4 src0InvExtent;
-  glm::ivec4 src1Rect;
-  glm::vec4 src1InvExtent;
-  glm::ivec4 depthOffset;
-  glm::vec4 depth0;
-  glm::vec4 depth1;
-  glm::vec4 w0;
-  glm::vec4 w1;
-  glm::ivec4 flags;
-  glm::ivec4 flags2;
-  glm::ivec4 outOffset;
-  glm::vec4 jitter;
+// The per-pipeline switches of one dispatch; they become specialisation constants (SpecKey,
+// constant_id in common.glsl), not uniforms.
+struct PassSwitches {
+  int32_t mode = 0;         // temporal: kModeTaa ... kModeSteady
+  int32_t sampleCount = 1;  // temporal: past samples (seed 003 Eq. 2)
+  bool writeOutput = false;
+  bool writeHistory = false;
+  bool encodeSrgb = false;
+  bool swapRedBlue = false;
+  int32_t depthBits = 0;  // bit0: this eye's depth, bit1: the other eye's
 };
-static_assert(sizeof(PassUniforms) == 480);
 
 // Blocks pay on a CPU device for every pass they apply to (measured with steadyxr-bench --block
 // on lavapipe at 1024x1024: the copy pass 15-19 % faster, hmtaa 39-47 against 49-50 ms, the 3x3
@@ -640,7 +633,7 @@ bool sameExtent(VkExtent2D a, VkExtent2D b) {
   return a.width == b.width && a.height == b.height;
 }
 
-glm::vec4 depthParams(const DepthRef& d) {
+DepthToInvZ depthToInvZ(const DepthRef& d) {
   // 1/z is linear in normalised depth: 1/z = 1/nearZ + n * (1/farZ - 1/nearZ); farZ may be +inf.
   const float invNear = 1.0f / d.nearZ;
   const float invFar = std::isinf(d.farZ) ? 0.0f : 1.0f / d.farZ;
@@ -855,24 +848,25 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   const bool cpuDevice = ctx.isCpuDevice();
   const uint32_t groupX = cpuDevice ? kCpuGroupX : kGpuGroupX;
   const uint32_t groupY = cpuDevice ? kCpuGroupY : kGpuGroupY;
-  auto dispatch = [&](Pass pass, OutFmt fmt, const PassUniforms& u, Binding src0, Binding src1, Binding d0,
-                      Binding d1, Binding appIn, VkImageView histOut, VkImageView out) -> bool {
-    const bool writeOut = u.flags.w != 0;
+  auto dispatch = [&](Pass pass, OutFmt fmt, const PassUniforms& u, const PassSwitches& sw, Binding src0,
+                      Binding src1, Binding d0, Binding d1, Binding appIn, VkImageView histOut,
+                      VkImageView out) -> bool {
+    const bool writeOut = sw.writeOutput;
     const bool blocked = pass != Pass::Fxaa && blockPixels(params, ctx);  // fxaa's reads follow the edges
-    const SpecKey spec{
-        pass == Pass::Temporal ? u.flags.x : 0,
-        pass == Pass::Temporal ? std::max(u.flags.y, 1) : 1,
-        writeOut ? 1 : 0,
-        u.flags2.z != 0 ? 1 : 0,
-        writeOut && u.flags2.x != 0 ? 1 : 0,
-        writeOut && u.flags2.y != 0 ? 1 : 0,
-        u.flags2.w,
-        (src0.clean ? 1 : 0) | (src1.clean ? 2 : 0),
-        pass == Pass::Temporal && (params.jitteredInput || u.jitter.x != 0.0f || u.jitter.y != 0.0f) ? 1 : 0,
-        pass == Pass::Temporal && params.historyFilter == HistoryFilter::CatmullRom ? 1 : 0,
-        blocked ? 1 : 0,
-        static_cast<int32_t>(groupX),
-        static_cast<int32_t>(groupY)};
+    const bool jittered = params.jitteredInput || u.jitterPx.x != 0.0f || u.jitterPx.y != 0.0f;
+    const SpecKey spec{pass == Pass::Temporal ? sw.mode : 0,
+                       pass == Pass::Temporal ? std::max(sw.sampleCount, 1) : 1,
+                       writeOut ? 1 : 0,
+                       sw.writeHistory ? 1 : 0,
+                       writeOut && sw.encodeSrgb ? 1 : 0,
+                       writeOut && sw.swapRedBlue ? 1 : 0,
+                       sw.depthBits,
+                       (src0.clean ? 1 : 0) | (src1.clean ? 2 : 0),
+                       pass == Pass::Temporal && jittered ? 1 : 0,
+                       pass == Pass::Temporal && params.historyFilter == HistoryFilter::CatmullRom ? 1 : 0,
+                       blocked ? 1 : 0,
+                       static_cast<int32_t>(groupX),
+                       static_cast<int32_t>(groupY)};
     const VkPipeline p = pipeline(pass, fmt, spec, error);
     if (!p && compiling) return true;  // record nothing, but go on: every pipeline of the frame starts
     if (!p || dispatchIndex >= kMaxDispatches) return false;
@@ -925,8 +919,8 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
     // blocked: each invocation handles 4x4 pixels (kBlockW x kBlockH)
     const uint32_t gx = blocked ? 4 * groupX : groupX;
     const uint32_t gy = blocked ? 4 * groupY : groupY;
-    vkCmdDispatch(cmd, (static_cast<uint32_t>(u.src0Rect.z) + gx - 1) / gx,
-                  (static_cast<uint32_t>(u.src0Rect.w) + gy - 1) / gy, 1);
+    vkCmdDispatch(cmd, (static_cast<uint32_t>(u.src0Size.x) + gx - 1) / gx,
+                  (static_cast<uint32_t>(u.src0Size.y) + gy - 1) / gy, 1);
     return true;
   };
 
@@ -934,54 +928,66 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   const float h = frame.headSpeedDegPerSec;
   const float shape = std::isfinite(h) && h <= params.hMaxDegPerSec
                           ? globalWeightA(h, params.hMaxDegPerSec, 0.0f)
-                          : 1.0f;  // Eq. 4 with w_min = 0: S
+                          : 1.0f;  // seed 003 Eq. 4 with w_min = 0: S
   auto baseUniforms = [&](uint32_t e) {
     PassUniforms u{};
     const ImageRef& in = frame.views[e].color;
-    u.src0Rect = {in.rect.offset.x, in.rect.offset.y, in.rect.extent.width, in.rect.extent.height};
+    u.src0Offset = {in.rect.offset.x, in.rect.offset.y};
+    u.src0Size = {in.rect.extent.width, in.rect.extent.height};
     u.src0InvExtent = {1.0f / static_cast<float>(in.extent.width),
-                       1.0f / static_cast<float>(in.extent.height), 0, 0};
+                       1.0f / static_cast<float>(in.extent.height)};
     const ImageRef& out = output.views[e];
-    if (!targets[e].scratch) u.outOffset = {out.rect.offset.x, out.rect.offset.y, 0, 0};
-    u.outOffset.z = in.rect.offset.x;  // uAppInput's rect (its size is src0's)
-    u.outOffset.w = in.rect.offset.y;
-    u.flags2 = {targets[e].srgb ? 1 : 0, targets[e].swap ? 1 : 0, 0, 0};
-    u.w0 = {params.taaAlpha, params.taaClipGamma, params.vtaaAlphaMin, shape};
-    u.w1 = {params.wMin, params.wLowerBound, params.stereoDepthTolerance, invFar};
+    if (!targets[e].scratch) u.outOffset = {out.rect.offset.x, out.rect.offset.y};
+    u.appInputOffset = {in.rect.offset.x, in.rect.offset.y};
+    u.taaAlpha = params.taaAlpha;
+    u.clipGamma = params.taaClipGamma;
+    u.alphaMin = params.vtaaAlphaMin;
+    u.shapeS = shape;
+    u.wMin = params.wMin;
+    u.wLowerBound = params.wLowerBound;
+    u.stereoDepthTolerance = params.stereoDepthTolerance;
+    u.fallbackInvZ = invFar;
     if (hasDepth[e]) {
-      u.depth0 = depthParams(*frame.views[e].depth);
+      u.depth0 = depthToInvZ(*frame.views[e].depth);
       const auto& r = frame.views[e].depth->image.rect;
-      u.depthOffset.x = r.offset.x;
-      u.depthOffset.y = r.offset.y;
-      u.flags2.w |= 1;
+      u.depth0Offset = {r.offset.x, r.offset.y};
     }
     return u;
+  };
+  auto baseSwitches = [&](uint32_t e) {
+    PassSwitches sw;
+    sw.encodeSrgb = targets[e].srgb;
+    sw.swapRedBlue = targets[e].swap;
+    sw.depthBits = hasDepth[e] ? 1 : 0;
+    return sw;
   };
   const uint32_t cur = historyIndex, prev = historyIndex ^ 1u;
   auto historyBinding = [&](uint32_t e, uint32_t i) {
     return Binding{eyes[e].history[i].view.get(), VK_IMAGE_LAYOUT_GENERAL, true};
   };
-  auto historyRect = [&](uint32_t e) { return glm::ivec4(0, 0, eyes[e].size.width, eyes[e].size.height); };
+  auto historySize = [&](uint32_t e) { return glm::ivec2(eyes[e].size.width, eyes[e].size.height); };
   auto historyInv = [&](uint32_t e) {
-    return glm::vec4(1.0f / static_cast<float>(eyes[e].size.width),
-                     1.0f / static_cast<float>(eyes[e].size.height), 0, 0);
+    return glm::vec2(1.0f / static_cast<float>(eyes[e].size.width),
+                     1.0f / static_cast<float>(eyes[e].size.height));
   };
 
   bool ok = true;
   if (stage1) {
     for (uint32_t e = 0; e < n && ok; ++e) {
       PassUniforms u = baseUniforms(e);
+      PassSwitches sw = baseSwitches(e);
       const VkImageView out = stereo ? VK_NULL_HANDLE : targets[e].view;
       const OutFmt fmt = stereo ? kOut8 : targets[e].fmt;
-      u.flags.w = stereo ? 0 : 1;
-      u.flags2.z = (temporal || stereo) ? 1 : 0;
-      const VkImageView histOut = u.flags2.z ? eyes[e].history[cur].view.get() : VK_NULL_HANDLE;
+      sw.writeOutput = !stereo;
+      sw.writeHistory = temporal || stereo;
+      const VkImageView histOut = sw.writeHistory ? eyes[e].history[cur].view.get() : VK_NULL_HANDLE;
       if (temporal) {
         const ViewFrame& v = frame.views[e];
         const EyeState& eye = eyes[e];
-        u.src1Rect = historyRect(e);
+        u.src1Offset = {0, 0};
+        u.src1Size = historySize(e);
         u.src1InvExtent = historyInv(e);
-        u.flags.z = eye.valid ? 1 : 0;
+        u.historyValid = eye.valid ? 1 : 0;
         const bool steady = method == TemporalMethod::Steady;
         const bool interpolated = method == TemporalMethod::Hmtaa || method == TemporalMethod::Hybrid ||
                                   (steady && params.steadyInterpolated);
@@ -992,7 +998,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
           const Pose at =
               interpolated ? interpolatePose(eye.prevPose, v.pose, params.sampleD[i]) : eye.prevPose;
           u.reproj[i] = reprojection(v.pose, v.fov, eye.size, at, eye.prevFov, eye.size);
-          u.sampleW[static_cast<int>(i)] = w[i];
+          u.sampleWeights[static_cast<int>(i)] = w[i];
         }
         const int mode = method == TemporalMethod::Taa     ? kModeTaa
                          : method == TemporalMethod::Hmtaa ? kModeHmtaa
@@ -1000,24 +1006,26 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
                          : steady                          ? kModeSteady
                                                            : kModeHybrid;
         if (steady) {  // uniforms of the steady mode (common.glsl, PassParams)
-          u.w0.y = params.steadyClipGamma;
-          u.w0.z = params.steadyAlphaFloor;
-          u.w0.w = params.steadyConfidence ? 1.0f : 0.0f;
-          u.w1.x = params.steadyClipRejects ? 1.0f : 0.0f;
-          u.w1.y = params.steadyBlurBudgetPx2 > 0.0f ? 1.0f / params.steadyBlurBudgetPx2 : 0.0f;
-          u.w1.z = params.steadyFootprint;
+          u.clipGamma = params.steadyClipGamma;
+          u.steadyAlphaFloor = params.steadyAlphaFloor;
+          u.steadyConfidence = params.steadyConfidence ? 1.0f : 0.0f;
+          u.steadyClipRejects = params.steadyClipRejects ? 1.0f : 0.0f;
+          u.steadyInvBlurBudgetPx2 =
+              params.steadyBlurBudgetPx2 > 0.0f ? 1.0f / params.steadyBlurBudgetPx2 : 0.0f;
+          u.steadyFootprint = params.steadyFootprint;
         }
-        u.flags.x = mode;
-        u.flags.y = static_cast<int>(count);
-        u.jitter = {v.jitterPx.x, v.jitterPx.y, 0.0f, 0.0f};
-        if (!std::isfinite(u.jitter.x) || !std::isfinite(u.jitter.y) || std::abs(u.jitter.x) > 1.0f ||
-            std::abs(u.jitter.y) > 1.0f)
-          u.jitter = glm::vec4(0.0f);  // sub-pixel only; anything else is a caller bug: ignore it
-        if (steady && eye.valid) u.jitter.z = hasDepth[e] ? 0.0f : parallaxSpreadPx2(params, v, eye);
-        ok = dispatch(Pass::Temporal, fmt, u, inputs[e], historyBinding(e, prev), depths[e], {}, inputs[e],
-                      histOut, out);
+        sw.mode = mode;
+        sw.sampleCount = static_cast<int32_t>(count);
+        u.jitterPx = v.jitterPx;
+        if (!std::isfinite(u.jitterPx.x) || !std::isfinite(u.jitterPx.y) || std::abs(u.jitterPx.x) > 1.0f ||
+            std::abs(u.jitterPx.y) > 1.0f)
+          u.jitterPx = glm::vec2(0.0f);  // sub-pixel only; anything else is a caller bug: ignore it
+        if (steady && eye.valid) u.parallaxSpreadPx2 = hasDepth[e] ? 0.0f : parallaxSpreadPx2(params, v, eye);
+        ok = dispatch(Pass::Temporal, fmt, u, sw, inputs[e], historyBinding(e, prev), depths[e], {},
+                      inputs[e], histOut, out);
       } else {
-        ok = dispatch(fxaa ? Pass::Fxaa : Pass::Copy, fmt, u, inputs[e], {}, {}, {}, inputs[e], histOut, out);
+        ok = dispatch(fxaa ? Pass::Fxaa : Pass::Copy, fmt, u, sw, inputs[e], {}, {}, {}, inputs[e], histOut,
+                      out);
       }
     }
   }
@@ -1034,17 +1042,21 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
     for (uint32_t e = 0; e < 2 && ok; ++e) {
       const uint32_t o = 1 - e;
       PassUniforms u = baseUniforms(e);
+      PassSwitches sw = baseSwitches(e);
       const ImageRef& inO = frame.views[o].color;
       Binding src0 = inputs[e], src1 = inputs[o];
-      u.src1Rect = {inO.rect.offset.x, inO.rect.offset.y, inO.rect.extent.width, inO.rect.extent.height};
+      u.src1Offset = {inO.rect.offset.x, inO.rect.offset.y};
+      u.src1Size = {inO.rect.extent.width, inO.rect.extent.height};
       u.src1InvExtent = {1.0f / static_cast<float>(inO.extent.width),
-                         1.0f / static_cast<float>(inO.extent.height), 0, 0};
+                         1.0f / static_cast<float>(inO.extent.height)};
       if (stage1) {  // the temporal/FXAA result sits in this frame's history image
         src0 = historyBinding(e, cur);
         src1 = historyBinding(o, cur);
-        u.src0Rect = historyRect(e);
+        u.src0Offset = {0, 0};
+        u.src0Size = historySize(e);
         u.src0InvExtent = historyInv(e);
-        u.src1Rect = historyRect(o);
+        u.src1Offset = {0, 0};
+        u.src1Size = historySize(o);
         u.src1InvExtent = historyInv(o);
       }
       if (poseOk[e] && poseOk[o]) {
@@ -1054,15 +1066,14 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
             reprojection(ve.pose, ve.fov, ve.color.rect.extent, vo.pose, vo.fov, vo.color.rect.extent);
       }  // else all zero: every reprojection fails and the eye is shown as is
       if (hasDepth[o]) {
-        u.depth1 = depthParams(*frame.views[o].depth);
+        u.depth1 = depthToInvZ(*frame.views[o].depth);
         const auto& r = frame.views[o].depth->image.rect;
-        u.depthOffset.z = r.offset.x;
-        u.depthOffset.w = r.offset.y;
-        u.flags2.w |= 2;
+        u.depth1Offset = {r.offset.x, r.offset.y};
+        sw.depthBits |= 2;
       }
-      u.w0.z = params.stereoBetaMin;
-      u.flags.w = 1;
-      ok = dispatch(Pass::Stereo, targets[e].fmt, u, src0, src1, depths[e], depths[o], inputs[e],
+      u.stereoBetaMin = params.stereoBetaMin;
+      sw.writeOutput = true;
+      ok = dispatch(Pass::Stereo, targets[e].fmt, u, sw, src0, src1, depths[e], depths[o], inputs[e],
                     VK_NULL_HANDLE, targets[e].view);
     }
   }

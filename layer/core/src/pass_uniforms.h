@@ -1,0 +1,97 @@
+// The uniform block of every filter pass (PassParams in shaders/common.glsl), member by member.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
+
+namespace steadyxr::core {
+
+// Normalised depth n -> 1/z: 1/z = invNear + n * invFarMinusInvNear, n = (d - minDepth) *
+// invDepthRange (1/z is linear in the stored depth; farZ may be +inf, then 1/farZ = 0).
+struct alignas(16) DepthToInvZ {  // std140: a struct member starts on 16 bytes
+  float invNear;
+  float invFarMinusInvNear;
+  float minDepth;
+  float invDepthRange;
+};
+
+// Mirrors PassParams in shaders/common.glsl, std140: scalars on 4 bytes, vec2/ivec2 on 8, vec4,
+// mat4 and structs on 16 (the offsets are checked below). A pass ignores the members it does not
+// need. The per-pipeline switches (mode, sample count, write flags, depth bits) are not here: they
+// are specialisation constants (SpecKey in filter.cpp, constant_id in common.glsl).
+struct PassUniforms {
+  // Pixel centre (x, y, 1, 1/z) of this view -> homogeneous pixel coordinates in src1's rect:
+  // temporal: the previous pose, or the interpolated poses of seed 003 Eq. 1 (one per sample);
+  // stereo: [0] the other eye.
+  glm::mat4 reproj[4];
+  glm::vec4 sampleWeights;  // W(d_i) of seed 003 Eq. 2, one per reprojection
+  glm::ivec2 src0Offset;    // src0's rect in its image; its size is also the dispatch size
+  glm::ivec2 src0Size;
+  glm::vec2 src0InvExtent;  // 1 / src0's image extent
+  glm::ivec2 src1Offset;    // src1's rect: the history (temporal) or the other eye (stereo)
+  glm::ivec2 src1Size;
+  glm::vec2 src1InvExtent;
+  DepthToInvZ depth0;  // this eye's depth
+  DepthToInvZ depth1;  // the other eye's depth (stereo)
+  glm::ivec2 depth0Offset;
+  glm::ivec2 depth1Offset;
+  glm::ivec2 outOffset;          // where pixel (0, 0) goes in the output image
+  glm::ivec2 appInputOffset;     // the app's input rect (uAppInput, the alpha of every output)
+  glm::vec2 jitterPx;            // src0's grid offset in pixels: its pixel c - jitter holds our pixel c
+  float parallaxSpreadPx2;       // steady without depth: the reprojection's parallax spread, px^2
+  int32_t historyValid;          // temporal: 0 after a reset or an invalid pose
+  float taaAlpha;                // taa: weight of the current frame; steady: its constant alpha (ablation)
+  float clipGamma;               // variance clip box mean +- gamma*sigma (taa, hybrid, stereo; steady's own)
+  float alphaMin;                // vtaa, hybrid: lower clamp of alpha' of seed 002 Eq. 4
+  float shapeS;                  // hmtaa, hybrid: S of seed 003 Eq. 4 (A(h) with w_min = 0); 1: h > h_max
+  float wMin;                    // hmtaa: w_min of seed 003 Eq. 5
+  float wLowerBound;             // hmtaa: w_lb of seed 003 Eq. 5
+  float fallbackInvZ;            // 1/z assumed without depth (1 / stereoFarDistanceM, 0 = infinity)
+  float stereoDepthTolerance;    // stereo: relative depth difference that rejects the other eye
+  float stereoBetaMin;           // stereo: lower clamp of beta (seed 002 Eq. 4)
+  float steadyAlphaFloor;        // steady: alpha >= this; 1/floor caps the sample count
+  float steadyConfidence;        // steady: 1 = alpha from the sample count, 0 = taaAlpha
+  float steadyClipRejects;       // steady: 1 = a clip by t sigma divides the count by t^2 (a mix weight)
+  float steadyInvBlurBudgetPx2;  // steady: 1 / blur budget (0 = no bound)
+  float steadyFootprint;         // steady: k of the [k, 1 - 2k, k]^2 footprint filter (0 = off)
+};
+
+// std140 offsets of PassParams in common.glsl; a member moved on one side only fails here.
+static_assert(offsetof(PassUniforms, reproj) == 0);
+static_assert(offsetof(PassUniforms, sampleWeights) == 256);
+static_assert(offsetof(PassUniforms, src0Offset) == 272);
+static_assert(offsetof(PassUniforms, src0Size) == 280);
+static_assert(offsetof(PassUniforms, src0InvExtent) == 288);
+static_assert(offsetof(PassUniforms, src1Offset) == 296);
+static_assert(offsetof(PassUniforms, src1Size) == 304);
+static_assert(offsetof(PassUniforms, src1InvExtent) == 312);
+static_assert(offsetof(PassUniforms, depth0) == 320);
+static_assert(offsetof(PassUniforms, depth1) == 336);
+static_assert(offsetof(PassUniforms, depth0Offset) == 352);
+static_assert(offsetof(PassUniforms, depth1Offset) == 360);
+static_assert(offsetof(PassUniforms, outOffset) == 368);
+static_assert(offsetof(PassUniforms, appInputOffset) == 376);
+static_assert(offsetof(PassUniforms, jitterPx) == 384);
+static_assert(offsetof(PassUniforms, parallaxSpreadPx2) == 392);
+static_assert(offsetof(PassUniforms, historyValid) == 396);
+static_assert(offsetof(PassUniforms, taaAlpha) == 400);
+static_assert(offsetof(PassUniforms, clipGamma) == 404);
+static_assert(offsetof(PassUniforms, alphaMin) == 408);
+static_assert(offsetof(PassUniforms, shapeS) == 412);
+static_assert(offsetof(PassUniforms, wMin) == 416);
+static_assert(offsetof(PassUniforms, wLowerBound) == 420);
+static_assert(offsetof(PassUniforms, fallbackInvZ) == 424);
+static_assert(offsetof(PassUniforms, stereoDepthTolerance) == 428);
+static_assert(offsetof(PassUniforms, stereoBetaMin) == 432);
+static_assert(offsetof(PassUniforms, steadyAlphaFloor) == 436);
+static_assert(offsetof(PassUniforms, steadyConfidence) == 440);
+static_assert(offsetof(PassUniforms, steadyClipRejects) == 444);
+static_assert(offsetof(PassUniforms, steadyInvBlurBudgetPx2) == 448);
+static_assert(offsetof(PassUniforms, steadyFootprint) == 452);
+static_assert(sizeof(PassUniforms) == 464);  // the block's 456 bytes, rounded up to 16 by DepthToInvZ
+
+}  // namespace steadyxr::core
