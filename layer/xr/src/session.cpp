@@ -382,23 +382,26 @@ XrResult Session::release(XrSwapchain swapchain, const XrSwapchainImageReleaseIn
   return r;
 }
 
-void Session::countUnfiltered(const FrameScan& scan) {
-  std::lock_guard lock(mutex_);
-  if (!scan.ok()) {
-    ++stats_.passed[static_cast<size_t>(PassReason::InvalidFrame)];
-  } else if (scan.projection) {
-    // Filtering but switched off live (`enabled = 0` in the config file): disabled, not failed.
-    ++(filtering_ ? stats_.framesDisabled : stats_.passed[static_cast<size_t>(failedReason_)]);
-  } else {
-    ++stats_.framesEmpty;
+// The layer's sub-pixel jitter goes into the fov the app renders with; Session::matchJitter
+// (session_frame.cpp) recognises it in xrEndFrame and undoes it.
+XrResult Session::locateViews(const XrViewLocateInfo* info, XrViewState* state, uint32_t capacity,
+                              uint32_t* count, XrView* views) {
+  const XrResult r = next().locateViews(handle_, info, state, capacity, count, views);
+  if (XR_FAILED(r) || !jitter_ || !filtering_ || info == nullptr || views == nullptr || count == nullptr ||
+      *count == 0 || *count > JitterTracker::kMaxViews || capacity < *count) {
+    return r;
   }
-}
-
-void Session::passed(PassReason reason, const std::string& detail) {
-  ++stats_.passed[static_cast<size_t>(reason)];
-  if (reason == PassReason::Compiling) return;  // expected for the first frames: logged once at info
-  instance_->log->once(LogLevel::Warn, "pass-" + std::string(toString(reason)),
-                       "passing frames through (" + std::string(toString(reason)) + "): " + detail);
+  std::lock_guard lock(mutex_);
+  if (viewSize_[0].width == 0 || shutDown_) return r;  // sizes known after the first filtered frame
+  std::array<XrFovf, JitterTracker::kMaxViews> fovs{};
+  std::array<VkExtent2D, JitterTracker::kMaxViews> sizes{};
+  for (uint32_t i = 0; i < *count; ++i) {
+    fovs[i] = views[i].fov;
+    sizes[i] = viewSize_[i].width ? viewSize_[i] : viewSize_[0];
+  }
+  stats_.jitterApplied += jitterTracker_.apply(fovs.data(), sizes.data(), *count);
+  for (uint32_t i = 0; i < *count; ++i) views[i].fov = fovs[i];
+  return r;
 }
 
 }  // namespace steadyxr::layer

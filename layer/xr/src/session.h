@@ -161,15 +161,27 @@ class Session {
   bool initFilter();
   bool deviceSupports(const XrSwapchainCreateInfo& info, XrSwapchainUsageFlags usage) const;
   void openImu();
+  // The steps of endFrame, in the order it runs them (session_frame.cpp). FrameWork is what one
+  // frame carries from step to step.
+  struct FrameWork;
+  FrameScan scanAppFrame(const XrFrameEndInfo* info);
+  XrResult passThrough(const FrameScan& scan, const XrFrameEndInfo* info);
+  void matchJitter(FrameWork& work);
+  std::optional<PassReason> chooseViews(FrameWork& work);
+  std::optional<core::DepthRef> appDepth(const XrCompositionLayerDepthInfoKHR& depthInfo) const;
+  std::optional<PassReason> acquireOutputs(FrameWork& work);
+  float headSpeed(const XrCompositionLayerProjection& layer, int64_t displayTime);
+  std::optional<PassReason> runFilter(FrameWork& work);
+  void releaseOutputs(FrameWork& work);
+  void recordTimings();
+  void rewriteProjection(FrameWork& work);
+  void countFrame(const FrameWork& work, XrResult runtimeResult);
+  void countUnfiltered(const FrameScan& scan);
+  void passed(PassReason reason, const std::string& detail);
+  // The layer's output swapchains, and app images it has not seen yet (session_output.cpp).
   OwnedSwapchain* ensureOutput(AppSwapchain& app);
   void ensureImages(const XrCompositionLayerProjection& layer);
   std::optional<PassReason> acquireOutput(OwnedSwapchain& out, uint32_t* index);
-  std::optional<PassReason> filterProjection(const XrCompositionLayerProjection& layer, int64_t displayTime,
-                                             const std::vector<ViewUnjitter>& unjitter,
-                                             std::vector<XrSwapchain>* outputs);
-  float headSpeed(const XrCompositionLayerProjection& layer, int64_t displayTime);
-  void passed(PassReason reason, const std::string& detail);
-  void countUnfiltered(const FrameScan& scan);
   std::string xrError(const char* what, XrResult r) const;
   // Live settings and status (session_live.cpp).
   void applyLiveConfig();

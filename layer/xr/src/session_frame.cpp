@@ -1,5 +1,8 @@
-// The frame path of a session: xrEndFrame, its output swapchains and head speed, and the
-// jitter injected into xrLocateViews. Locking: see Session in session.h.
+// xrEndFrame top to bottom: Session::endFrame is the whole frame path as a list of named steps,
+// and each step follows it below in the order it runs. What the steps check and copy of the
+// app's structs are the pure helpers of rewrite.h (scanFrame, checkProjection, FrameRewrite),
+// tested without a runtime; the layer's output swapchains are in session_output.cpp.
+// Locking: see Session in session.h.
 #include "session.h"
 
 #include "steadyxr/core/view_math.h"
@@ -9,12 +12,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <set>
 
 namespace steadyxr::layer {
 namespace {
-
-constexpr XrDuration kOutputWaitNs = 1'000'000'000;  // bounded: never hang the frame loop
 
 core::Pose toPose(const XrPosef& p) {
   core::Pose out;
@@ -32,98 +32,205 @@ VkRect2D toRect(const XrRect2Di& r) {
           {static_cast<uint32_t>(r.extent.width), static_cast<uint32_t>(r.extent.height)}};
 }
 
+VkExtent2D extentOf(const XrRect2Di& r) {
+  return {static_cast<uint32_t>(std::max(r.extent.width, 0)),
+          static_cast<uint32_t>(std::max(r.extent.height, 0))};
+}
+
 }  // namespace
 
-OwnedSwapchain* Session::ensureOutput(AppSwapchain& app) {
-  if (app.output) return app.output.get();
-  XrSwapchainCreateInfo info = outputSwapchainInfo(app.info, mutableFormat_);
-  if (dumper_.wants()) info.usageFlags |= XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT;  // the dump reads it back
-  XrSwapchain handle = XR_NULL_HANDLE;
-  XrResult r = next().createSwapchain(handle_, &info, &handle);
-  if (XR_FAILED(r)) {
-    instance_->log->once(LogLevel::Warn, "output-create", xrError("xrCreateSwapchain (layer output)", r));
-    return nullptr;
+// What one xrEndFrame carries from step to step. Lives on endFrame's stack.
+struct Session::FrameWork {
+  FrameWork(const XrFrameEndInfo& app, const FrameScan& s) : scan(s), rewrite(app) {
+    input.displayTimeNs = app.displayTime;
+    if (scan.projection)
+      projection = reinterpret_cast<const XrCompositionLayerProjection*>(app.layers[*scan.projection]);
   }
-  uint32_t n = 0;
-  r = next().enumerateSwapchainImages(handle, 0, &n, nullptr);
-  std::vector<XrSwapchainImageVulkanKHR> imgs(
-      n, makeXr<XrSwapchainImageVulkanKHR>(XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR));
-  if (XR_SUCCEEDED(r)) {
-    r = next().enumerateSwapchainImages(handle, n, &n,
-                                        reinterpret_cast<XrSwapchainImageBaseHeader*>(imgs.data()));
+  // One output swapchain per distinct app swapchain, acquired once this frame.
+  struct AcquiredOutput {
+    OwnedSwapchain* out;
+    uint32_t index;
+  };
+
+  FrameScan scan;
+  const XrCompositionLayerProjection* projection = nullptr;  // the app's layer the layer filters
+  std::vector<ViewUnjitter> unjitter;  // per view while the layer's jitter is on, else empty
+  uint32_t jitterMatched = 0;          // views of `unjitter` that the layer had jittered
+  core::StereoFrame input;
+  core::StereoOutput output;
+  std::array<AppSwapchain*, 2> apps{};  // the app swapchain of each view
+  std::map<XrSwapchain, AcquiredOutput> acquired;
+  std::vector<XrSwapchain> outputSwapchains;  // per view: what the rewritten layer shows
+  std::optional<PassReason> passReason;       // set: the projection layer goes down as the app sent it
+  std::array<VkExtent2D, 2> filteredSizes{};  // per filtered view: its rect's size
+  FrameRewrite rewrite;                       // the structs handed to the runtime
+};
+
+XrResult Session::endFrame(const XrFrameEndInfo* info) {
+  applyLiveConfig();  // config file edits: enabled, method, pass parameters (session_live.cpp)
+  publishStatus();    // about once a second
+  const FrameScan scan = scanAppFrame(info);
+  if (!scan.ok() || !filtering_ || !liveEnabled_) return passThrough(scan, info);
+  std::unique_lock frameLock(frameMutex_);
+  if (!filtering_ || shutDown_) {
+    frameLock.unlock();
+    return passThrough(scan, info);
   }
-  if (XR_FAILED(r) || n == 0) {
-    next().destroySwapchain(handle);
-    instance_->log->once(LogLevel::Warn, "output-enum",
-                         xrError("xrEnumerateSwapchainImages (layer output)", r));
-    return nullptr;
+  FrameWork work(*info, scan);
+  if (work.projection) {
+    matchJitter(work);
+    work.passReason = chooseViews(work);
+    if (!work.passReason) work.passReason = acquireOutputs(work);
+    if (!work.passReason) {
+      work.input.headSpeedDegPerSec = headSpeed(*work.projection, work.input.displayTimeNs);
+      work.passReason = runFilter(work);
+    }
+    releaseOutputs(work);
+    if (!work.passReason) {
+      recordTimings();
+      rewriteProjection(work);
+    }
   }
-  std::vector<VkImage> images;
-  for (uint32_t i = 0; i < n; ++i) images.push_back(imgs[i].image);
-  app.output = std::make_unique<OwnedSwapchain>(next(), handle, info, std::move(images));
-  return app.output.get();
+  frameLock.unlock();
+  // The runtime call with no lock held: other threads' xrLocateViews and swapchain calls go on.
+  const XrResult r = next().endFrame(handle_, work.rewrite.replacedCount() > 0 ? &work.rewrite.info() : info);
+  countFrame(work, r);
+  return r;
 }
 
-void Session::ensureImages(const XrCompositionLayerProjection& layer) {
-  if (layer.views == nullptr || layer.viewCount < 1 || layer.viewCount > 2) return;
-  // An app need not call xrEnumerateSwapchainImages itself (an engine may have its images
-  // from elsewhere): the layer asks the runtime for those it has not seen yet.
-  std::set<XrSwapchain> missing;
-  {
-    std::lock_guard lock(mutex_);
-    auto consider = [&](XrSwapchain s) {
-      auto it = swapchains_.find(s);
-      if (it != swapchains_.end() && it->second.images.empty()) missing.insert(s);
-    };
-    for (uint32_t v = 0; v < layer.viewCount; ++v) {
-      consider(layer.views[v].subImage.swapchain);
-      if (const XrCompositionLayerDepthInfoKHR* d = findDepthInfo(layer.views[v]))
-        consider(d->subImage.swapchain);
-    }
+// Step 1. Nothing of the app's frame is read before scanFrame has checked it (issue 15:
+// layers = NULL crashed here); a frame with a problem goes to the runtime exactly as the app
+// submitted it.
+FrameScan Session::scanAppFrame(const XrFrameEndInfo* info) {
+  const FrameScan scan = scanFrame(info, maxLayerCount_);
+  if (!scan.ok()) {
+    instance_->log->once(LogLevel::Warn, "invalid-frame-" + std::string(toString(scan.problem)),
+                         "xrEndFrame with " + std::string(toString(scan.problem)) +
+                             ": forwarded untouched (the runtime answers it)");
   }
-  for (XrSwapchain s : missing) {  // runtime calls: mutex_ not held
-    uint32_t n = 0;
-    if (XR_FAILED(next().enumerateSwapchainImages(s, 0, &n, nullptr)) || n == 0) continue;
-    std::vector<XrSwapchainImageVulkanKHR> imgs(
-        n, makeXr<XrSwapchainImageVulkanKHR>(XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR));
-    if (XR_FAILED(next().enumerateSwapchainImages(
-            s, n, &n, reinterpret_cast<XrSwapchainImageBaseHeader*>(imgs.data()))))
-      continue;
-    std::lock_guard lock(mutex_);
-    if (auto it = swapchains_.find(s); it != swapchains_.end() && it->second.images.empty()) {
-      for (uint32_t i = 0; i < n && i < imgs.size(); ++i) it->second.images.push_back(imgs[i].image);
-    }
+  return scan;
+}
+
+// A frame the layer does not filter at all (invalid, not Vulkan, switched off, shut down).
+XrResult Session::passThrough(const FrameScan& scan, const XrFrameEndInfo* info) {
+  if (vulkanSession_) countUnfiltered(scan);
+  return next().endFrame(handle_, info);
+}
+
+// Step 2. Views rendered with the layer's jitter are filtered onto, and submitted with, the
+// unjittered fov; any other fov (the app's own) is used as is with no jitter.
+void Session::matchJitter(FrameWork& work) {
+  const XrCompositionLayerProjection& proj = *work.projection;
+  if (!jitter_ || proj.views == nullptr || proj.viewCount > JitterTracker::kMaxViews) return;
+  std::lock_guard lock(mutex_);
+  for (uint32_t v = 0; v < proj.viewCount; ++v) {
+    work.unjitter.push_back(
+        jitterTracker_.find(v, proj.views[v].fov, extentOf(proj.views[v].subImage.imageRect)));
+    work.jitterMatched += work.unjitter.back().matched ? 1 : 0;
   }
 }
 
-std::optional<PassReason> Session::acquireOutput(OwnedSwapchain& out, uint32_t* index) {
-  Logger& log = *instance_->log;
-  if (!out.unwaited) {
-    uint32_t i = 0;
-    const XrResult r = next().acquireSwapchainImage(out.handle(), nullptr, &i);
-    if (XR_FAILED(r)) {
-      log.once(LogLevel::Warn, "acquire", xrError("xrAcquireSwapchainImage (layer output)", r));
-      return PassReason::XrError;
+// Step 3. Whether the projection layer can be filtered (checkProjection), and if so the app
+// images, rects, poses and fovs the filter reads. Called with frameMutex_ held: the app's
+// swapchain entries cannot disappear meanwhile (only erased under frameMutex_).
+std::optional<PassReason> Session::chooseViews(FrameWork& work) {
+  const XrCompositionLayerProjection& layer = *work.projection;
+  ensureImages(layer);
+  work.input.viewCount = layer.viewCount;
+  std::lock_guard lock(mutex_);
+  const auto lookup = [this](XrSwapchain s) -> std::optional<SwapchainFacts> {
+    auto it = swapchains_.find(s);
+    if (it == swapchains_.end()) return std::nullopt;
+    return it->second.facts();
+  };
+  if (auto reason = checkProjection(layer, lookup)) return reason;
+  for (uint32_t v = 0; v < layer.viewCount; ++v) {
+    const XrCompositionLayerProjectionView& view = layer.views[v];
+    AppSwapchain& app = swapchains_.at(view.subImage.swapchain);
+    work.apps[v] = &app;
+    const XrSwapchainCreateInfo& ai = app.info;
+    core::ViewFrame& vf = work.input.views[v];
+    vf.color.image = app.images[*app.released];
+    vf.color.format = static_cast<VkFormat>(ai.format);
+    vf.color.extent = {ai.width, ai.height};
+    vf.color.arrayLayer = view.subImage.imageArrayIndex;
+    vf.color.arrayLayerCount = ai.arraySize;
+    vf.color.rect = toRect(view.subImage.imageRect);
+    vf.color.usage = vulkanUsage(ai.usageFlags);
+    vf.color.mutableFormat = (ai.usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) != 0;
+    vf.color.layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;  // the Vulkan binding's layout at release
+    vf.pose = toPose(view.pose);
+    const std::vector<ViewUnjitter>& unjitter = work.unjitter;
+    if (v < unjitter.size() && unjitter[v].matched) {
+      vf.fov = toFov(unjitter[v].fov);
+      vf.jitterPx = {unjitter[v].jitterPx[0], unjitter[v].jitterPx[1]};
+    } else {
+      vf.fov = toFov(view.fov);
     }
-    out.unwaited = i;
+    if (const XrCompositionLayerDepthInfoKHR* d = findDepthInfo(view)) vf.depth = appDepth(*d);
   }
-  auto wi = makeXr<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
-  wi.timeout = kOutputWaitNs;
-  const XrResult r = next().waitSwapchainImage(out.handle(), &wi);
-  // XR_SESSION_LOSS_PENDING is a success code: the wait succeeded. After XR_TIMEOUT_EXPIRED (or
-  // an error) the image stays acquired and unwaited; the spec has the next wait wait on the same
-  // image, so the next frame waits again instead of acquiring another.
-  if (XR_SUCCEEDED(r) && r != XR_TIMEOUT_EXPIRED) {
-    *index = *out.unwaited;
-    out.unwaited.reset();
+  return std::nullopt;
+}
+
+// The depth image a view's XrCompositionLayerDepthInfoKHR names, when the filter can sample it.
+// Called with mutex_ held.
+std::optional<core::DepthRef> Session::appDepth(const XrCompositionLayerDepthInfoKHR& d) const {
+  auto ds = swapchains_.find(d.subImage.swapchain);
+  if (ds == swapchains_.end() || !ds->second.facts().hasReleasedImage ||
+      !isDepthFormat(ds->second.info.format) ||
+      !(ds->second.info.usageFlags & XR_SWAPCHAIN_USAGE_SAMPLED_BIT))
     return std::nullopt;
-  }
-  log.once(LogLevel::Warn, "output-wait",
-           xrError("xrWaitSwapchainImage (layer output)", r) +
-               "; frames pass through until a later frame's wait succeeds");
-  return PassReason::XrError;
+  const XrSwapchainCreateInfo& di = ds->second.info;
+  core::DepthRef depth;
+  depth.image.image = ds->second.images[*ds->second.released];
+  depth.image.format = static_cast<VkFormat>(di.format);
+  depth.image.extent = {di.width, di.height};
+  depth.image.arrayLayer = d.subImage.imageArrayIndex;
+  depth.image.arrayLayerCount = di.arraySize;
+  depth.image.rect = toRect(d.subImage.imageRect);
+  depth.image.usage = vulkanUsage(di.usageFlags);
+  depth.image.layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+  depth.minDepth = d.minDepth;
+  depth.maxDepth = d.maxDepth;
+  depth.nearZ = d.nearZ;
+  depth.farZ = d.farZ;
+  return depth;
 }
 
+// Step 4. An output image for each view: one output swapchain per distinct app swapchain,
+// acquired once this frame (runtime calls; mutex_ not held).
+std::optional<PassReason> Session::acquireOutputs(FrameWork& work) {
+  const XrCompositionLayerProjection& layer = *work.projection;
+  for (uint32_t v = 0; v < layer.viewCount; ++v) {
+    const XrCompositionLayerProjectionView& view = layer.views[v];
+    auto it = work.acquired.find(view.subImage.swapchain);
+    if (it == work.acquired.end()) {
+      OwnedSwapchain* out = ensureOutput(*work.apps[v]);
+      if (!out) return PassReason::OutputSwapchain;
+      uint32_t index = 0;
+      if (auto failure = acquireOutput(*out, &index)) return failure;
+      it = work.acquired.emplace(view.subImage.swapchain, FrameWork::AcquiredOutput{out, index}).first;
+    }
+    const FrameWork::AcquiredOutput& acq = it->second;
+    core::ImageRef& o = work.output.views[v];
+    const XrSwapchainCreateInfo& oi = acq.out->info();
+    o.image = acq.out->images()[acq.index];
+    o.format = static_cast<VkFormat>(oi.format);
+    o.extent = {oi.width, oi.height};
+    o.arrayLayer = view.subImage.imageArrayIndex;
+    o.arrayLayerCount = oi.arraySize;
+    o.rect = work.input.views[v].color.rect;
+    o.usage = vulkanUsage(oi.usageFlags);
+    o.mutableFormat = (oi.usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) != 0;
+    o.layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;  // after xrWaitSwapchainImage
+    work.outputSwapchains.push_back(acq.out->handle());
+  }
+  return std::nullopt;
+}
+
+// Step 5. The head's angular speed (deg/s) at the display time: from the IMU with
+// pose_source = imu, else the runtime's VIEW space velocity when it reports one, else the
+// change of the submitted head orientation over the change of display time; smoothed.
 float Session::headSpeed(const XrCompositionLayerProjection& layer, int64_t displayTime) {
   if (imu_) {
     // XrTime -> CLOCK_MONOTONIC (the IMU source's host time domain) through
@@ -146,8 +253,6 @@ float Session::headSpeed(const XrCompositionLayerProjection& layer, int64_t disp
     instance_->log->once(LogLevel::Warn, "imu-no-data",
                          "pose_source = imu: no IMU state at the display time; using the runtime's poses");
   }
-  // The runtime's VIEW space velocity when it reports one, else the change of the submitted
-  // head orientation over the change of display time; smoothed either way.
   std::optional<float> raw;
   if (viewSpace_ != XR_NULL_HANDLE) {
     auto vel = makeXr<XrSpaceVelocity>(XR_TYPE_SPACE_VELOCITY);
@@ -175,264 +280,122 @@ float Session::headSpeed(const XrCompositionLayerProjection& layer, int64_t disp
   return smoothedSpeed_;
 }
 
-// Called with frameMutex_ held. The app's swapchain entries cannot disappear meanwhile (only
-// erased under frameMutex_) and their `output` is touched only under it.
-std::optional<PassReason> Session::filterProjection(const XrCompositionLayerProjection& layer,
-                                                    int64_t displayTime,
-                                                    const std::vector<ViewUnjitter>& unjitter,
-                                                    std::vector<XrSwapchain>* outputs) {
+// Step 6. The filter core records and submits its passes from the app's images into the
+// output images (steadyxr/core/filter.h); the dump, when asked for, reads both back.
+std::optional<PassReason> Session::runFilter(FrameWork& work) {
   Logger& log = *instance_->log;
-  ensureImages(layer);
-  core::StereoFrame frame;
-  core::StereoOutput output;
-  frame.viewCount = layer.viewCount;
-  frame.displayTimeNs = displayTime;
-  std::array<AppSwapchain*, 2> apps{};
-  {  // what the frame needs of the app's swapchains, read under mutex_
-    std::lock_guard lock(mutex_);
-    const auto lookup = [this](XrSwapchain s) -> std::optional<SwapchainFacts> {
-      auto it = swapchains_.find(s);
-      if (it == swapchains_.end()) return std::nullopt;
-      return it->second.facts();
-    };
-    if (auto reason = checkProjection(layer, lookup)) return reason;
-    for (uint32_t v = 0; v < layer.viewCount; ++v) {
-      const XrCompositionLayerProjectionView& view = layer.views[v];
-      AppSwapchain& app = swapchains_.at(view.subImage.swapchain);
-      apps[v] = &app;
-      const XrSwapchainCreateInfo& ai = app.info;
-      core::ViewFrame& vf = frame.views[v];
-      vf.color.image = app.images[*app.released];
-      vf.color.format = static_cast<VkFormat>(ai.format);
-      vf.color.extent = {ai.width, ai.height};
-      vf.color.arrayLayer = view.subImage.imageArrayIndex;
-      vf.color.arrayLayerCount = ai.arraySize;
-      vf.color.rect = toRect(view.subImage.imageRect);
-      vf.color.usage = vulkanUsage(ai.usageFlags);
-      vf.color.mutableFormat = (ai.usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) != 0;
-      vf.color.layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;  // the Vulkan binding's layout at release
-      vf.pose = toPose(view.pose);
-      if (v < unjitter.size() && unjitter[v].matched) {
-        vf.fov = toFov(unjitter[v].fov);
-        vf.jitterPx = {unjitter[v].jitterPx[0], unjitter[v].jitterPx[1]};
-      } else {
-        vf.fov = toFov(view.fov);
-      }
-      if (const XrCompositionLayerDepthInfoKHR* d = findDepthInfo(view)) {
-        auto ds = swapchains_.find(d->subImage.swapchain);
-        if (ds != swapchains_.end() && ds->second.facts().hasReleasedImage &&
-            isDepthFormat(ds->second.info.format) &&
-            (ds->second.info.usageFlags & XR_SWAPCHAIN_USAGE_SAMPLED_BIT)) {
-          const XrSwapchainCreateInfo& di = ds->second.info;
-          core::DepthRef depth;
-          depth.image.image = ds->second.images[*ds->second.released];
-          depth.image.format = static_cast<VkFormat>(di.format);
-          depth.image.extent = {di.width, di.height};
-          depth.image.arrayLayer = d->subImage.imageArrayIndex;
-          depth.image.arrayLayerCount = di.arraySize;
-          depth.image.rect = toRect(d->subImage.imageRect);
-          depth.image.usage = vulkanUsage(di.usageFlags);
-          depth.image.layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-          depth.minDepth = d->minDepth;
-          depth.maxDepth = d->maxDepth;
-          depth.nearZ = d->nearZ;
-          depth.farZ = d->farZ;
-          vf.depth = depth;
-        }
-      }
-    }
+  if (log.enabled(LogLevel::Debug) && debugFrames_ < 10) {
+    ++debugFrames_;
+    const XrPosef& p = work.projection->views[0].pose;
+    const XrFovf& f = work.projection->views[0].fov;
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "frame t=%lld view0 q=(%.6f %.6f %.6f %.6f) p=(%.4f %.4f %.4f) fov=(%.4f %.4f %.4f %.4f) "
+                  "speed=%.3f deg/s",
+                  static_cast<long long>(work.input.displayTimeNs), p.orientation.w, p.orientation.x,
+                  p.orientation.y, p.orientation.z, p.position.x, p.position.y, p.position.z, f.angleLeft,
+                  f.angleRight, f.angleUp, f.angleDown, work.input.headSpeedDegPerSec);
+    log.log(LogLevel::Debug, buf);
   }
+  std::string error;
+  if (!filter_->submit(work.input, work.output, &error)) {
+    if (filter_->compiling()) {
+      log.once(LogLevel::Info, "filter-compiling",
+               "the filter's pipelines are compiling in the background; frames pass through until then");
+      return PassReason::Compiling;
+    }
+    log.once(LogLevel::Warn, "filter-submit", "filter: " + error);
+    return PassReason::FilterError;
+  }
+  if (dumper_.wants()) dumper_.dump(*vk_, work.input, work.output, log);
+  return std::nullopt;
+}
 
-  // One output swapchain per distinct app swapchain, acquired once this frame (runtime calls).
-  struct Acquired {
-    OwnedSwapchain* out;
-    uint32_t index;
-  };
-  std::map<XrSwapchain, Acquired> acquired;
-  std::optional<PassReason> failure;
-  for (uint32_t v = 0; v < layer.viewCount && !failure; ++v) {
-    const XrCompositionLayerProjectionView& view = layer.views[v];
-    auto it = acquired.find(view.subImage.swapchain);
-    if (it == acquired.end()) {
-      OwnedSwapchain* out = ensureOutput(*apps[v]);
-      if (!out) {
-        failure = PassReason::OutputSwapchain;
-        break;
-      }
-      uint32_t index = 0;
-      if ((failure = acquireOutput(*out, &index))) break;
-      it = acquired.emplace(view.subImage.swapchain, Acquired{out, index}).first;
-    }
-    const Acquired& acq = it->second;
-    core::ImageRef& o = output.views[v];
-    const XrSwapchainCreateInfo& oi = acq.out->info();
-    o.image = acq.out->images()[acq.index];
-    o.format = static_cast<VkFormat>(oi.format);
-    o.extent = {oi.width, oi.height};
-    o.arrayLayer = view.subImage.imageArrayIndex;
-    o.arrayLayerCount = oi.arraySize;
-    o.rect = frame.views[v].color.rect;
-    o.usage = vulkanUsage(oi.usageFlags);
-    o.mutableFormat = (oi.usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) != 0;
-    o.layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;  // after xrWaitSwapchainImage
-    outputs->push_back(acq.out->handle());
-  }
-
-  if (!failure) {
-    frame.headSpeedDegPerSec = headSpeed(layer, displayTime);
-    if (log.enabled(LogLevel::Debug) && debugFrames_ < 10) {
-      ++debugFrames_;
-      const XrPosef& p = layer.views[0].pose;
-      const XrFovf& f = layer.views[0].fov;
-      char buf[256];
-      std::snprintf(buf, sizeof buf,
-                    "frame t=%lld view0 q=(%.6f %.6f %.6f %.6f) p=(%.4f %.4f %.4f) fov=(%.4f %.4f %.4f %.4f) "
-                    "speed=%.3f deg/s",
-                    static_cast<long long>(displayTime), p.orientation.w, p.orientation.x, p.orientation.y,
-                    p.orientation.z, p.position.x, p.position.y, p.position.z, f.angleLeft, f.angleRight,
-                    f.angleUp, f.angleDown, frame.headSpeedDegPerSec);
-      log.log(LogLevel::Debug, buf);
-    }
-    std::string error;
-    if (!filter_->submit(frame, output, &error)) {
-      if (filter_->compiling()) {
-        log.once(LogLevel::Info, "filter-compiling",
-                 "the filter's pipelines are compiling in the background; frames pass through until then");
-        failure = PassReason::Compiling;
-      } else {
-        log.once(LogLevel::Warn, "filter-submit", "filter: " + error);
-        failure = PassReason::FilterError;
-      }
-    } else if (dumper_.wants()) {
-      dumper_.dump(*vk_, frame, output, log);
-    }
-  }
-  // Release every output image acquired this frame, filtered or not (the layer waits only on
-  // its own work; the runtime orders its reads after this queue's submissions).
-  for (const auto& [app, acq] : acquired) {
+// Step 7. Every output image acquired this frame goes back, filtered or not (the layer waits
+// only on its own work; the runtime orders its reads after this queue's submissions).
+void Session::releaseOutputs(FrameWork& work) {
+  for (const auto& [app, acq] : work.acquired) {
     const XrResult r = next().releaseSwapchainImage(acq.out->handle(), nullptr);
     if (XR_FAILED(r)) {
-      log.once(LogLevel::Warn, "release", xrError("xrReleaseSwapchainImage (layer output)", r));
-      failure = PassReason::XrError;
+      instance_->log->once(LogLevel::Warn, "release", xrError("xrReleaseSwapchainImage (layer output)", r));
+      work.passReason = PassReason::XrError;
     }
   }
-  if (!failure) {
-    if (auto t = filter_->lastTimings()) {
-      std::lock_guard lock(mutex_);
-      if (t->frameIndex != stats_.lastTimingIndex) {
-        stats_.lastTimingIndex = t->frameIndex;
-        ++stats_.timingFrames;
-        stats_.temporalMs += t->temporalMs;
-        stats_.stereoMs += t->stereoMs;
-        stats_.otherMs += t->otherMs;
-        stats_.totalMs += t->totalMs;
-      }
-    }
-  }
-  return failure;
 }
 
-XrResult Session::locateViews(const XrViewLocateInfo* info, XrViewState* state, uint32_t capacity,
-                              uint32_t* count, XrView* views) {
-  const XrResult r = next().locateViews(handle_, info, state, capacity, count, views);
-  if (XR_FAILED(r) || !jitter_ || !filtering_ || info == nullptr || views == nullptr || count == nullptr ||
-      *count == 0 || *count > JitterTracker::kMaxViews || capacity < *count) {
-    return r;
-  }
+// The filter's GPU timings of its newest measured frame, added once to the session summary.
+void Session::recordTimings() {
+  const std::optional<core::PassTimings> t = filter_->lastTimings();
+  if (!t) return;
   std::lock_guard lock(mutex_);
-  if (viewSize_[0].width == 0 || shutDown_) return r;  // sizes known after the first filtered frame
-  std::array<XrFovf, JitterTracker::kMaxViews> fovs{};
-  std::array<VkExtent2D, JitterTracker::kMaxViews> sizes{};
-  for (uint32_t i = 0; i < *count; ++i) {
-    fovs[i] = views[i].fov;
-    sizes[i] = viewSize_[i].width ? viewSize_[i] : viewSize_[0];
-  }
-  stats_.jitterApplied += jitterTracker_.apply(fovs.data(), sizes.data(), *count);
-  for (uint32_t i = 0; i < *count; ++i) views[i].fov = fovs[i];
-  return r;
+  if (t->frameIndex == stats_.lastTimingIndex) return;
+  stats_.lastTimingIndex = t->frameIndex;
+  ++stats_.timingFrames;
+  stats_.temporalMs += t->temporalMs;
+  stats_.stereoMs += t->stereoMs;
+  stats_.otherMs += t->otherMs;
+  stats_.totalMs += t->totalMs;
 }
 
-XrResult Session::endFrame(const XrFrameEndInfo* info) {
-  applyLiveConfig();  // config file edits: enabled, method, pass parameters
-  publishStatus();    // about once a second
-  // Nothing of the app's frame is read before scanFrame has checked it (issue 15: layers = NULL
-  // crashed here); a frame with a problem goes to the runtime exactly as the app submitted it.
-  const FrameScan scan = scanFrame(info, maxLayerCount_);
-  if (!scan.ok()) {
-    instance_->log->once(LogLevel::Warn, "invalid-frame-" + std::string(toString(scan.problem)),
-                         "xrEndFrame with " + std::string(toString(scan.problem)) +
-                             ": forwarded untouched (the runtime answers it)");
-  }
-  if (!scan.ok() || !filtering_ || !liveEnabled_) {
-    if (vulkanSession_) countUnfiltered(scan);
-    return next().endFrame(handle_, info);
-  }
-  std::unique_lock frameLock(frameMutex_);
-  if (!filtering_ || shutDown_) {
-    frameLock.unlock();
-    countUnfiltered(scan);
-    return next().endFrame(handle_, info);
-  }
-  FrameRewrite rewrite(*info);
-  std::optional<PassReason> reason;
-  uint32_t viewCount = 0, matched = 0;
-  std::vector<ViewUnjitter> unjitter;
-  std::array<VkExtent2D, 2> sizes{};
-  if (scan.projection) {
-    const auto& proj = *reinterpret_cast<const XrCompositionLayerProjection*>(info->layers[*scan.projection]);
-    // Views rendered with the layer's jitter are filtered onto, and submitted with, the
-    // unjittered fov; any other fov (the app's own) is used as is with no jitter.
-    if (jitter_ && proj.views != nullptr && proj.viewCount <= JitterTracker::kMaxViews) {
-      std::lock_guard lock(mutex_);
-      for (uint32_t v = 0; v < proj.viewCount; ++v) {
-        const XrRect2Di& rect = proj.views[v].subImage.imageRect;
-        const VkExtent2D size{static_cast<uint32_t>(std::max(rect.extent.width, 0)),
-                              static_cast<uint32_t>(std::max(rect.extent.height, 0))};
-        unjitter.push_back(jitterTracker_.find(v, proj.views[v].fov, size));
-        matched += unjitter.back().matched ? 1 : 0;
-      }
-    }
-    std::vector<XrSwapchain> outputs;
-    reason = filterProjection(proj, info->displayTime, unjitter, &outputs);
-    if (!reason) {
-      std::vector<XrFovf> fovs;
-      for (const ViewUnjitter& u : unjitter) fovs.push_back(u.fov);
-      rewrite.replaceProjection(*scan.projection, outputs, matched > 0 ? &fovs : nullptr);
-      viewCount = proj.viewCount;
-      for (uint32_t v = 0; v < viewCount; ++v) {
-        sizes[v] = {static_cast<uint32_t>(proj.views[v].subImage.imageRect.extent.width),
-                    static_cast<uint32_t>(proj.views[v].subImage.imageRect.extent.height)};
-      }
-    }
-  }
-  frameLock.unlock();
-  // The runtime call with no lock held: other threads' xrLocateViews and swapchain calls go on.
-  const XrResult r = next().endFrame(handle_, rewrite.replacedCount() > 0 ? &rewrite.info() : info);
+// Step 8. The runtime gets a copy of the app's frame whose projection layer shows the output
+// images (and the unjittered fovs); the app's own structs are never written.
+void Session::rewriteProjection(FrameWork& work) {
+  std::vector<XrFovf> fovs;
+  for (const ViewUnjitter& u : work.unjitter) fovs.push_back(u.fov);
+  work.rewrite.replaceProjection(*work.scan.projection, work.outputSwapchains,
+                                 work.jitterMatched > 0 ? &fovs : nullptr);
+  for (uint32_t v = 0; v < work.projection->viewCount; ++v)
+    work.filteredSizes[v] = extentOf(work.projection->views[v].subImage.imageRect);
+}
 
+// Step 9 (after the runtime's xrEndFrame). What became of the frame, for the session summary
+// and the status file; a filtered frame's view sizes are what xrLocateViews jitters next.
+void Session::countFrame(const FrameWork& work, XrResult runtimeResult) {
   std::lock_guard lock(mutex_);
-  if (!scan.projection) {
+  if (!work.projection) {
     ++stats_.framesEmpty;
-  } else if (reason) {
-    passed(*reason, "projection layer left as the app submitted it");
-  } else if (XR_FAILED(r)) {
+  } else if (work.passReason) {
+    passed(*work.passReason, "projection layer left as the app submitted it");
+  } else if (XR_FAILED(runtimeResult)) {
     // Filtered, but the runtime refused the frame: it was never shown.
-    passed(PassReason::RuntimeRejected, xrError("xrEndFrame", r));
+    passed(PassReason::RuntimeRejected, xrError("xrEndFrame", runtimeResult));
   } else {
-    for (uint32_t v = 0; v < unjitter.size(); ++v) {
-      if (!unjitter[v].matched) continue;
+    for (uint32_t v = 0; v < work.unjitter.size(); ++v) {
+      if (!work.unjitter[v].matched) continue;
       char buf[160];
       std::snprintf(buf, sizeof buf, "jitter: undone on submit (first: view %u, %.4f, %.4f px)", v,
-                    unjitter[v].jitterPx[0], unjitter[v].jitterPx[1]);
+                    work.unjitter[v].jitterPx[0], work.unjitter[v].jitterPx[1]);
       instance_->log->once(LogLevel::Info, "jitter-undone", buf);
       break;
     }
-    stats_.jitterUndone += matched;
-    stats_.jitterUnmatched += unjitter.size() - matched;
-    for (uint32_t v = 0; v < viewCount; ++v) viewSize_[v] = sizes[v];
+    stats_.jitterUndone += work.jitterMatched;
+    stats_.jitterUnmatched += work.unjitter.size() - work.jitterMatched;
+    const uint32_t viewCount = work.input.viewCount;
+    for (uint32_t v = 0; v < viewCount; ++v) viewSize_[v] = work.filteredSizes[v];
     ++stats_.framesFiltered;
     for (uint32_t v = 0; v < viewCount; ++v) ++stats_.viewsFiltered[v];
   }
-  return r;
+}
+
+// A frame that went down untouched: why, for the summary.
+void Session::countUnfiltered(const FrameScan& scan) {
+  std::lock_guard lock(mutex_);
+  if (!scan.ok()) {
+    ++stats_.passed[static_cast<size_t>(PassReason::InvalidFrame)];
+  } else if (scan.projection) {
+    // Filtering but switched off live (`enabled = 0` in the config file): disabled, not failed.
+    ++(filtering_ ? stats_.framesDisabled : stats_.passed[static_cast<size_t>(failedReason_)]);
+  } else {
+    ++stats_.framesEmpty;
+  }
+}
+
+// Called with mutex_ held.
+void Session::passed(PassReason reason, const std::string& detail) {
+  ++stats_.passed[static_cast<size_t>(reason)];
+  if (reason == PassReason::Compiling) return;  // expected for the first frames: logged once at info
+  instance_->log->once(LogLevel::Warn, "pass-" + std::string(toString(reason)),
+                       "passing frames through (" + std::string(toString(reason)) + "): " + detail);
 }
 
 }  // namespace steadyxr::layer
