@@ -10,6 +10,12 @@ FakeRuntime* gFake = nullptr;  // the one fake of the running test (C function p
 }
 
 struct FakeCalls {
+  // The fake's chain `s`, or null: the caller answers XR_ERROR_HANDLE_INVALID. Called with the
+  // fake's mutex held.
+  static FakeRuntime::Chain* chain(XrSwapchain s) {
+    auto it = gFake->chains.find(s);
+    return it == gFake->chains.end() ? nullptr : &it->second;
+  }
   static XRAPI_ATTR XrResult XRAPI_CALL createSwapchain(XrSession, const XrSwapchainCreateInfo* info,
                                                         XrSwapchain* out) {
     FakeRuntime& f = *gFake;
@@ -48,22 +54,22 @@ struct FakeCalls {
   static XRAPI_ATTR XrResult XRAPI_CALL enumerateImages(XrSwapchain s, uint32_t capacity, uint32_t* count,
                                                         XrSwapchainImageBaseHeader* images) {
     std::lock_guard lock(gFake->mutex);
-    auto it = gFake->chains.find(s);
-    if (it == gFake->chains.end()) return XR_ERROR_HANDLE_INVALID;
-    const uint32_t n = static_cast<uint32_t>(it->second.images.size());
+    FakeRuntime::Chain* c = chain(s);
+    if (c == nullptr) return XR_ERROR_HANDLE_INVALID;
+    const uint32_t n = static_cast<uint32_t>(c->images.size());
     *count = n;
     if (capacity == 0) return XR_SUCCESS;
     if (capacity < n) return XR_ERROR_SIZE_INSUFFICIENT;
     auto* vkImages = reinterpret_cast<XrSwapchainImageVulkanKHR*>(images);
-    for (uint32_t i = 0; i < n; ++i) vkImages[i].image = it->second.images[i]->image();
+    for (uint32_t i = 0; i < n; ++i) vkImages[i].image = c->images[i]->image();
     return XR_SUCCESS;
   }
   static XRAPI_ATTR XrResult XRAPI_CALL acquire(XrSwapchain s, const XrSwapchainImageAcquireInfo*,
                                                 uint32_t* index) {
     std::lock_guard lock(gFake->mutex);
-    auto it = gFake->chains.find(s);
-    if (it == gFake->chains.end()) return XR_ERROR_HANDLE_INVALID;
-    FakeRuntime::Chain& c = it->second;
+    FakeRuntime::Chain* found = chain(s);
+    if (found == nullptr) return XR_ERROR_HANDLE_INVALID;
+    FakeRuntime::Chain& c = *found;
     if (c.acquired.size() >= c.images.size()) return XR_ERROR_CALL_ORDER_INVALID;
     *index = c.nextIndex;
     c.acquired.push_back(c.nextIndex);
@@ -78,9 +84,9 @@ struct FakeCalls {
     XrResult r = XR_SUCCESS;
     {
       std::lock_guard lock(f.mutex);
-      auto it = f.chains.find(s);
-      if (it == f.chains.end()) return XR_ERROR_HANDLE_INVALID;
-      if (it->second.acquired.empty()) return XR_ERROR_CALL_ORDER_INVALID;
+      FakeRuntime::Chain* c = chain(s);
+      if (c == nullptr) return XR_ERROR_HANDLE_INVALID;
+      if (c->acquired.empty()) return XR_ERROR_CALL_ORDER_INVALID;
       const bool output =
           std::find(f.appSwapchains.begin(), f.appSwapchains.end(), s) == f.appSwapchains.end();
       if (output) {
@@ -90,19 +96,19 @@ struct FakeCalls {
           f.outputWaitResults.pop_front();
         }
       }
-      if (XR_SUCCEEDED(r) && r != XR_TIMEOUT_EXPIRED) it->second.waited = true;
+      if (XR_SUCCEEDED(r) && r != XR_TIMEOUT_EXPIRED) c->waited = true;
     }
     if (during) during();  // unlocked: it may call into the session from another thread
     return r;
   }
   static XRAPI_ATTR XrResult XRAPI_CALL release(XrSwapchain s, const XrSwapchainImageReleaseInfo*) {
     std::lock_guard lock(gFake->mutex);
-    auto it = gFake->chains.find(s);
-    if (it == gFake->chains.end()) return XR_ERROR_HANDLE_INVALID;
+    FakeRuntime::Chain* c = chain(s);
+    if (c == nullptr) return XR_ERROR_HANDLE_INVALID;
     // As the spec: only a waited image can be released.
-    if (it->second.acquired.empty() || !it->second.waited) return XR_ERROR_CALL_ORDER_INVALID;
-    it->second.acquired.pop_front();
-    it->second.waited = false;
+    if (c->acquired.empty() || !c->waited) return XR_ERROR_CALL_ORDER_INVALID;
+    c->acquired.pop_front();
+    c->waited = false;
     return XR_SUCCESS;
   }
   static XRAPI_ATTR XrResult XRAPI_CALL locateViews(XrSession, const XrViewLocateInfo*, XrViewState*,
@@ -162,21 +168,20 @@ FakeRuntime::~FakeRuntime() {
 }
 
 layer::Dispatch FakeRuntime::dispatch() const {
-  layer::Dispatch d;
-  d.createSwapchain = FakeCalls::createSwapchain;
-  d.destroySwapchain = FakeCalls::destroySwapchain;
-  d.enumerateSwapchainImages = FakeCalls::enumerateImages;
-  d.acquireSwapchainImage = FakeCalls::acquire;
-  d.waitSwapchainImage = FakeCalls::wait;
-  d.releaseSwapchainImage = FakeCalls::release;
-  d.locateViews = FakeCalls::locateViews;
-  d.endFrame = FakeCalls::endFrame;
-  d.createReferenceSpace = FakeCalls::createReferenceSpace;
-  d.destroySpace = FakeCalls::destroySpace;
-  d.locateSpace = FakeCalls::locateSpace;
-  d.resultToString = FakeCalls::resultToString;
-  d.getSystemProperties = FakeCalls::systemProperties;
-  return d;
+  // Designated in Dispatch's member order; what the layer may do without is left null.
+  return {.createSwapchain = FakeCalls::createSwapchain,
+          .destroySwapchain = FakeCalls::destroySwapchain,
+          .enumerateSwapchainImages = FakeCalls::enumerateImages,
+          .acquireSwapchainImage = FakeCalls::acquire,
+          .waitSwapchainImage = FakeCalls::wait,
+          .releaseSwapchainImage = FakeCalls::release,
+          .locateViews = FakeCalls::locateViews,
+          .endFrame = FakeCalls::endFrame,
+          .createReferenceSpace = FakeCalls::createReferenceSpace,
+          .destroySpace = FakeCalls::destroySpace,
+          .locateSpace = FakeCalls::locateSpace,
+          .resultToString = FakeCalls::resultToString,
+          .getSystemProperties = FakeCalls::systemProperties};
 }
 
 }  // namespace steadyxr::test
