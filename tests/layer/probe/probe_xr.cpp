@@ -95,22 +95,50 @@ uint32_t pickFamily(VkPhysicalDevice pd) {
     if ((f[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) && (f[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) return i;
   return 0;
 }
+
+// The probe's VkInstanceCreateInfo at `apiVersion` (both Vulkan paths). Not copyable: the
+// create info points at the application info.
+struct InstanceCreateInfo {
+  explicit InstanceCreateInfo(uint32_t apiVersion) {
+    app.pApplicationName = "steadyxr-probe";
+    app.apiVersion = apiVersion;
+    info.pApplicationInfo = &app;
+  }
+  InstanceCreateInfo(const InstanceCreateInfo&) = delete;
+  InstanceCreateInfo& operator=(const InstanceCreateInfo&) = delete;
+  VkApplicationInfo app = vkStruct<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
+  VkInstanceCreateInfo info = vkStruct<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
+};
+
+// The probe's VkDeviceCreateInfo (both Vulkan paths): one queue of `family`. Not copyable: the
+// create info points at the queue info, which points at the priority.
+struct DeviceCreateInfo {
+  explicit DeviceCreateInfo(uint32_t family) {
+    queue.queueFamilyIndex = family;
+    queue.queueCount = 1;
+    queue.pQueuePriorities = &priority;
+    info.queueCreateInfoCount = 1;
+    info.pQueueCreateInfos = &queue;
+  }
+  DeviceCreateInfo(const DeviceCreateInfo&) = delete;
+  DeviceCreateInfo& operator=(const DeviceCreateInfo&) = delete;
+  float priority = 1.0f;
+  VkDeviceQueueCreateInfo queue =
+      vkStruct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
+  VkDeviceCreateInfo info = vkStruct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
+};
 }  // namespace
 
 bool Xr::initVulkanV2() {
   auto req = xrStruct<XrGraphicsRequirementsVulkan2KHR>(XR_TYPE_GRAPHICS_REQUIREMENTS_VULKAN2_KHR);
   xrFn<PFN_xrGetVulkanGraphicsRequirements2KHR>(instance_, "xrGetVulkanGraphicsRequirements2KHR")(
       instance_, system_, &req);
-  auto app = vkStruct<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
-  app.pApplicationName = "steadyxr-probe";
-  app.apiVersion = VK_API_VERSION_1_1;
-  instanceApiVersion = app.apiVersion;
-  auto ici = vkStruct<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
-  ici.pApplicationInfo = &app;
+  instanceApiVersion = VK_API_VERSION_1_1;
+  const InstanceCreateInfo ici(instanceApiVersion);
   auto xci = xrStruct<XrVulkanInstanceCreateInfoKHR>(XR_TYPE_VULKAN_INSTANCE_CREATE_INFO_KHR);
   xci.systemId = system_;
   xci.pfnGetInstanceProcAddr = vkGetInstanceProcAddr;
-  xci.vulkanCreateInfo = &ici;
+  xci.vulkanCreateInfo = &ici.info;
   VkResult vr = VK_SUCCESS;
   auto createInstance = xrFn<PFN_xrCreateVulkanInstanceKHR>(instance_, "xrCreateVulkanInstanceKHR");
   XrResult r = createInstance(instance_, &xci, &vkInstance_, &vr);
@@ -122,19 +150,12 @@ bool Xr::initVulkanV2() {
   xrFn<PFN_xrGetVulkanGraphicsDevice2KHR>(instance_, "xrGetVulkanGraphicsDevice2KHR")(instance_, &dgi,
                                                                                       &physical_);
   family_ = pickFamily(physical_);
-  const float prio = 1.0f;
-  auto q = vkStruct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
-  q.queueFamilyIndex = family_;
-  q.queueCount = 1;
-  q.pQueuePriorities = &prio;
-  auto dci = vkStruct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
-  dci.queueCreateInfoCount = 1;
-  dci.pQueueCreateInfos = &q;
+  const DeviceCreateInfo dci(family_);
   auto xdci = xrStruct<XrVulkanDeviceCreateInfoKHR>(XR_TYPE_VULKAN_DEVICE_CREATE_INFO_KHR);
   xdci.systemId = system_;
   xdci.pfnGetInstanceProcAddr = vkGetInstanceProcAddr;
   xdci.vulkanPhysicalDevice = physical_;
-  xdci.vulkanCreateInfo = &dci;
+  xdci.vulkanCreateInfo = &dci.info;
   r = xrFn<PFN_xrCreateVulkanDeviceKHR>(instance_, "xrCreateVulkanDeviceKHR")(instance_, &xdci, &device_,
                                                                               &vr);
   if (XR_FAILED(r) || vr != VK_SUCCESS)
@@ -170,15 +191,12 @@ bool Xr::initVulkanV1() {
     if (std::any_of(have.begin(), have.end(),
                     [&](const VkExtensionProperties& p) { return e == p.extensionName; }))
       use.push_back(e.c_str());
-  auto app = vkStruct<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
-  app.pApplicationName = "steadyxr-probe";
-  app.apiVersion = VK_API_VERSION_1_3;
-  instanceApiVersion = app.apiVersion;
-  auto ici = vkStruct<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
-  ici.pApplicationInfo = &app;
-  ici.enabledExtensionCount = static_cast<uint32_t>(use.size());
-  ici.ppEnabledExtensionNames = use.data();
-  if (vkCreateInstance(&ici, nullptr, &vkInstance_) != VK_SUCCESS) return error = "vkCreateInstance", false;
+  instanceApiVersion = VK_API_VERSION_1_3;
+  InstanceCreateInfo ici(instanceApiVersion);
+  ici.info.enabledExtensionCount = static_cast<uint32_t>(use.size());
+  ici.info.ppEnabledExtensionNames = use.data();
+  if (vkCreateInstance(&ici.info, nullptr, &vkInstance_) != VK_SUCCESS)
+    return error = "vkCreateInstance", false;
   XrResult r = xrFn<PFN_xrGetVulkanGraphicsDeviceKHR>(instance_, "xrGetVulkanGraphicsDeviceKHR")(
       instance_, system_, vkInstance_, &physical_);
   if (XR_FAILED(r)) return error = "xrGetVulkanGraphicsDeviceKHR " + resultName(instance_, r), false;
@@ -200,17 +218,10 @@ bool Xr::initVulkanV1() {
   enabledDeviceExtensions +=
       "(listed but missing on the device: " + (skipped.empty() ? "none" : skipped) + ")";
   family_ = pickFamily(physical_);
-  const float prio = 1.0f;
-  auto q = vkStruct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
-  q.queueFamilyIndex = family_;
-  q.queueCount = 1;
-  q.pQueuePriorities = &prio;
-  auto dci = vkStruct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
-  dci.queueCreateInfoCount = 1;
-  dci.pQueueCreateInfos = &q;
-  dci.enabledExtensionCount = static_cast<uint32_t>(devUse.size());
-  dci.ppEnabledExtensionNames = devUse.data();
-  if (vkCreateDevice(physical_, &dci, nullptr, &device_) != VK_SUCCESS)
+  DeviceCreateInfo dci(family_);
+  dci.info.enabledExtensionCount = static_cast<uint32_t>(devUse.size());
+  dci.info.ppEnabledExtensionNames = devUse.data();
+  if (vkCreateDevice(physical_, &dci.info, nullptr, &device_) != VK_SUCCESS)
     return error = "vkCreateDevice", false;
   return true;
 }
