@@ -112,8 +112,13 @@ struct FakeCalls {
     return XR_SUCCESS;
   }
   static XRAPI_ATTR XrResult XRAPI_CALL locateViews(XrSession, const XrViewLocateInfo*, XrViewState*,
-                                                    uint32_t, uint32_t* count, XrView*) {
-    if (count) *count = 0;
+                                                    uint32_t capacity, uint32_t* count, XrView* views) {
+    std::lock_guard lock(gFake->mutex);
+    const std::vector<XrView>& located = gFake->locatedViews;
+    if (count) *count = static_cast<uint32_t>(located.size());
+    if (capacity == 0 || views == nullptr) return XR_SUCCESS;
+    if (capacity < located.size()) return XR_ERROR_SIZE_INSUFFICIENT;
+    std::copy(located.begin(), located.end(), views);
     return XR_SUCCESS;
   }
   static XRAPI_ATTR XrResult XRAPI_CALL endFrame(XrSession, const XrFrameEndInfo* info) {
@@ -125,11 +130,14 @@ struct FakeCalls {
       ++f.endFrameCalls;
       f.lastEndFrameInfo = info;
       f.lastSubmittedSwapchain = XR_NULL_HANDLE;
+      f.lastSubmittedFovs.clear();
       if (info != nullptr && info->layers != nullptr && info->layerCount > 0 && info->layers[0] != nullptr &&
           info->layers[0]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
         const auto* p = reinterpret_cast<const XrCompositionLayerProjection*>(info->layers[0]);
         if (p->views != nullptr && p->viewCount > 0)
           f.lastSubmittedSwapchain = p->views[0].subImage.swapchain;
+        for (uint32_t v = 0; p->views != nullptr && v < p->viewCount; ++v)
+          f.lastSubmittedFovs.push_back(p->views[v].fov);
       }
       during = f.duringEndFrame;
       r = info == nullptr || (info->layerCount > 0 && info->layers == nullptr) ? XR_ERROR_VALIDATION_FAILURE

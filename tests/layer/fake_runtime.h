@@ -45,12 +45,14 @@ class FakeRuntime {
   std::function<void()> duringOutputWait;  // runs inside xrWaitSwapchainImage on a layer swapchain
   std::function<void()> duringEndFrame;    // runs inside xrEndFrame
   std::vector<XrSwapchain> appSwapchains;  // created through the session by the test's "app"
+  std::vector<XrView> locatedViews;        // what xrLocateViews answers
 
   // Recorded.
   uint32_t createSwapchainCalls = 0;
   uint32_t endFrameCalls = 0;
   const XrFrameEndInfo* lastEndFrameInfo = nullptr;     // the pointer the runtime received
   XrSwapchain lastSubmittedSwapchain = XR_NULL_HANDLE;  // view 0 of the first projection layer
+  std::vector<XrFovf> lastSubmittedFovs;                // each view's fov of that layer
 
   core::VulkanContext& vk;
 

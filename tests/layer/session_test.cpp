@@ -29,6 +29,11 @@ std::string readFile(const fs::path& p) {
   return ss.str();
 }
 
+bool sameFov(const XrFovf& a, const XrFovf& b) {
+  return a.angleLeft == b.angleLeft && a.angleRight == b.angleRight && a.angleUp == b.angleUp &&
+         a.angleDown == b.angleDown;
+}
+
 size_t countOf(const std::string& text, const std::string& what) {
   size_t n = 0;
   for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
@@ -96,7 +101,7 @@ class App {
     for (uint32_t v = 0; v < 2; ++v) {
       views_[v] = makeXr<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW);
       views_[v].pose.orientation.w = 1.0f;
-      views_[v].fov = {-0.7f, 0.7f, 0.7f, -0.7f};
+      views_[v].fov = fov_[v];
       views_[v].subImage.swapchain = swapchain_;
       views_[v].subImage.imageRect = {{int32_t(32 * v), 0}, {32, 32}};
     }
@@ -128,6 +133,8 @@ class App {
   std::shared_ptr<InstanceState> instance_;
   std::unique_ptr<Session> session_;
   XrSwapchain swapchain_ = XR_NULL_HANDLE;
+  static constexpr XrFovf kFov{-0.7f, 0.7f, 0.7f, -0.7f};
+  std::array<XrFovf, 2> fov_{kFov, kFov};  // what the app submits for each view
   std::array<XrCompositionLayerProjectionView, 2> views_{};
   XrCompositionLayerProjection proj_{};
   std::array<const XrCompositionLayerBaseHeader*, 1> layers_{};
@@ -249,6 +256,50 @@ TEST_F(SessionTest, NoLayerLockIsHeldAcrossRuntimeCallsInEndFrame) {
   fake.duringEndFrame = nullptr;
   EXPECT_EQ(calls, 2);
   EXPECT_EQ(completed, calls);
+}
+
+// jitter = 1 through the whole xrEndFrame path: the fov that xrLocateViews handed out jittered
+// is recognised on submit, and the runtime gets the filtered image with the original fov; a fov
+// the layer never handed out goes down as the app sent it.
+TEST_F(SessionTest, JitteredFovIsUndoneOnSubmit) {
+  FakeRuntime fake(*gVk);
+  Config cfg;
+  cfg.method = "taa";  // the temporal methods are the ones that undo the jitter
+  cfg.jitter = true;
+  App app(fake, cfg);
+  ASSERT_TRUE(app.warmUp());  // the layer jitters once a filtered frame has told it the view sizes
+  fake.locatedViews.assign(2, makeXr<XrView>(XR_TYPE_VIEW));
+  for (XrView& v : fake.locatedViews) {
+    v.pose.orientation.w = 1.0f;
+    v.fov = App::kFov;
+  }
+  auto locateInfo = makeXr<XrViewLocateInfo>(XR_TYPE_VIEW_LOCATE_INFO);
+  auto state = makeXr<XrViewState>(XR_TYPE_VIEW_STATE);
+  std::array<XrView, 2> located{makeXr<XrView>(XR_TYPE_VIEW), makeXr<XrView>(XR_TYPE_VIEW)};
+  uint32_t count = 0;
+  ASSERT_EQ(app.session_->locateViews(&locateInfo, &state, 2, &count, located.data()), XR_SUCCESS);
+  ASSERT_EQ(count, 2u);
+  EXPECT_FALSE(sameFov(located[0].fov, App::kFov));
+
+  const SessionStats before = app.session_->stats();
+  app.fov_ = {located[0].fov, located[1].fov};  // rendered and submitted with the fov it was given
+  EXPECT_EQ(app.frame(), XR_SUCCESS);
+  const SessionStats jittered = app.session_->stats();
+  EXPECT_EQ(jittered.framesFiltered, before.framesFiltered + 1);
+  EXPECT_EQ(jittered.jitterUndone, before.jitterUndone + 2);
+  EXPECT_NE(fake.lastSubmittedSwapchain, app.swapchain_);
+  ASSERT_EQ(fake.lastSubmittedFovs.size(), 2u);
+  for (const XrFovf& f : fake.lastSubmittedFovs) EXPECT_TRUE(sameFov(f, App::kFov));
+
+  const XrFovf own{-0.6f, 0.6f, 0.6f, -0.6f};
+  app.fov_ = {own, own};
+  EXPECT_EQ(app.frame(), XR_SUCCESS);
+  const SessionStats unjittered = app.session_->stats();
+  EXPECT_EQ(unjittered.framesFiltered, jittered.framesFiltered + 1);
+  EXPECT_EQ(unjittered.jitterUndone, jittered.jitterUndone);
+  EXPECT_EQ(unjittered.jitterUnmatched, jittered.jitterUnmatched + 2);
+  ASSERT_EQ(fake.lastSubmittedFovs.size(), 2u);
+  for (const XrFovf& f : fake.lastSubmittedFovs) EXPECT_TRUE(sameFov(f, own));
 }
 
 TEST_F(SessionTest, SwapchainsTheAppNeverEnumeratedAreFiltered) {
