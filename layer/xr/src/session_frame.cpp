@@ -32,6 +32,22 @@ VkRect2D toRect(const XrRect2Di& r) {
           {static_cast<uint32_t>(r.extent.width), static_cast<uint32_t>(r.extent.height)}};
 }
 
+// The region of a swapchain image that a sub-image names, as the filter core reads or writes it.
+core::ImageRef imageRef(const XrSwapchainCreateInfo& info, VkImage image, const XrSwapchainSubImage& sub,
+                        VkImageLayout layout) {
+  core::ImageRef r;
+  r.image = image;
+  r.format = static_cast<VkFormat>(info.format);
+  r.extent = {info.width, info.height};
+  r.arrayLayer = sub.imageArrayIndex;
+  r.arrayLayerCount = info.arraySize;
+  r.rect = toRect(sub.imageRect);
+  r.usage = vulkanUsage(info.usageFlags);
+  r.mutableFormat = (info.usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) != 0;
+  r.layout = layout;
+  return r;
+}
+
 VkExtent2D extentOf(const XrRect2Di& r) {
   return {static_cast<uint32_t>(std::max(r.extent.width, 0)),
           static_cast<uint32_t>(std::max(r.extent.height, 0))};
@@ -77,6 +93,9 @@ XrResult Session::endFrame(const XrFrameEndInfo* info) {
     return passThrough(scan, info);
   }
   FrameWork work(*info, scan);
+  // A step that fails sets passReason: the steps after it are skipped (output images acquired
+  // are released either way) and the projection layer goes down as the app sent it. Head speed
+  // is taken only for frames about to be filtered: it advances the speed's smoothing.
   if (work.projection) {
     matchJitter(work);
     work.passReason = chooseViews(work);
@@ -148,17 +167,10 @@ std::optional<PassReason> Session::chooseViews(FrameWork& work) {
     const XrCompositionLayerProjectionView& view = layer.views[v];
     AppSwapchain& app = swapchains_.at(view.subImage.swapchain);
     work.apps[v] = &app;
-    const XrSwapchainCreateInfo& ai = app.info;
     core::ViewFrame& vf = work.input.views[v];
-    vf.color.image = app.images[*app.released];
-    vf.color.format = static_cast<VkFormat>(ai.format);
-    vf.color.extent = {ai.width, ai.height};
-    vf.color.arrayLayer = view.subImage.imageArrayIndex;
-    vf.color.arrayLayerCount = ai.arraySize;
-    vf.color.rect = toRect(view.subImage.imageRect);
-    vf.color.usage = vulkanUsage(ai.usageFlags);
-    vf.color.mutableFormat = (ai.usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) != 0;
-    vf.color.layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;  // the Vulkan binding's layout at release
+    // VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL: the Vulkan binding's layout at release.
+    vf.color = imageRef(app.info, app.images[*app.released], view.subImage,
+                        VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
     vf.pose = toPose(view.pose);
     const std::vector<ViewUnjitter>& unjitter = work.unjitter;
     if (v < unjitter.size() && unjitter[v].matched) {
@@ -180,16 +192,9 @@ std::optional<core::DepthRef> Session::appDepth(const XrCompositionLayerDepthInf
       !isDepthFormat(ds->second.info.format) ||
       !(ds->second.info.usageFlags & XR_SWAPCHAIN_USAGE_SAMPLED_BIT))
     return std::nullopt;
-  const XrSwapchainCreateInfo& di = ds->second.info;
   core::DepthRef depth;
-  depth.image.image = ds->second.images[*ds->second.released];
-  depth.image.format = static_cast<VkFormat>(di.format);
-  depth.image.extent = {di.width, di.height};
-  depth.image.arrayLayer = d.subImage.imageArrayIndex;
-  depth.image.arrayLayerCount = di.arraySize;
-  depth.image.rect = toRect(d.subImage.imageRect);
-  depth.image.usage = vulkanUsage(di.usageFlags);
-  depth.image.layout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+  depth.image = imageRef(ds->second.info, ds->second.images[*ds->second.released], d.subImage,
+                         VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
   depth.minDepth = d.minDepth;
   depth.maxDepth = d.maxDepth;
   depth.nearZ = d.nearZ;
@@ -211,18 +216,10 @@ std::optional<PassReason> Session::acquireOutputs(FrameWork& work) {
       if (auto failure = acquireOutput(*out, &index)) return failure;
       it = work.acquired.emplace(view.subImage.swapchain, FrameWork::AcquiredOutput{out, index}).first;
     }
+    // The same sub-image of the output swapchain (same size and array size as the app's).
     const FrameWork::AcquiredOutput& acq = it->second;
-    core::ImageRef& o = work.output.views[v];
-    const XrSwapchainCreateInfo& oi = acq.out->info();
-    o.image = acq.out->images()[acq.index];
-    o.format = static_cast<VkFormat>(oi.format);
-    o.extent = {oi.width, oi.height};
-    o.arrayLayer = view.subImage.imageArrayIndex;
-    o.arrayLayerCount = oi.arraySize;
-    o.rect = work.input.views[v].color.rect;
-    o.usage = vulkanUsage(oi.usageFlags);
-    o.mutableFormat = (oi.usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) != 0;
-    o.layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;  // after xrWaitSwapchainImage
+    work.output.views[v] = imageRef(acq.out->info(), acq.out->images()[acq.index], view.subImage,
+                                    VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);  // after xrWaitSwapchainImage
     work.outputSwapchains.push_back(acq.out->handle());
   }
   return std::nullopt;
