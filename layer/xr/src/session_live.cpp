@@ -1,5 +1,5 @@
 // The session's live parts: settings from config file edits, applied between frames, and the
-// status file that `steadyxr status` lists. Kept apart from session.cpp, which is the frame path.
+// status file that `steadyxr status` lists. Kept apart from the frame path (session_frame.cpp).
 #include "session.h"
 
 #include <unistd.h>
