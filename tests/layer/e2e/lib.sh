@@ -4,6 +4,11 @@
 
 e2e_lib_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 
+# e2e_fresh_dir DIR: empties (or creates) DIR for this run's output and prints its absolute path.
+e2e_fresh_dir() {
+  rm -rf "$1" && mkdir -p "$1" && readlink -f "$1"
+}
+
 # Prints the cached trixie root's path, or exits the calling script: 77 (skip) where no root can
 # be built here (no debootstrap, not root, no Debian mirror), 1 where building it failed.
 e2e_root() {

@@ -23,11 +23,8 @@ seconds=${STEADYXR_E2E_SECONDS:-10}
 here=$(cd "$(dirname "$0")" && pwd)
 layer_name=XR_APILAYER_STEADYXR_head_taa
 
-rm -rf "$out"
-mkdir -p "$out"
-out=$(readlink -f "$out")
-
 source "$here/lib.sh"
+out=$(e2e_fresh_dir "$out") || exit 1
 root=$(e2e_root) || exit $?
 
 # Per-run folder inside the root (no bind mounts): the layer, its manifest, logs, dumps.

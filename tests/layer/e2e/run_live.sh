@@ -20,11 +20,9 @@ cli=$(readlink -f "${3:?steadyxr cli}")
 out=${4:?output dir}
 here=$(cd "$(dirname "$0")" && pwd)
 layer_name=XR_APILAYER_STEADYXR_head_taa
-rm -rf "$out"
-mkdir -p "$out"
-out=$(readlink -f "$out")
 
 source "$here/lib.sh"
+out=$(e2e_fresh_dir "$out") || exit 1
 root=$(e2e_root) || exit $?
 
 dir=/tmp/steadyxr-live-$$

@@ -16,11 +16,9 @@ probe=$(readlink -f "${2:?probe}")
 out=${3:?output dir}
 here=$(cd "$(dirname "$0")" && pwd)
 layer_name=XR_APILAYER_STEADYXR_head_taa
-rm -rf "$out"
-mkdir -p "$out"
-out=$(readlink -f "$out")
 
 source "$here/../e2e/lib.sh"
+out=$(e2e_fresh_dir "$out") || exit 1
 root=$(e2e_root) || exit $?
 
 inroot=/tmp/steadyxr-probe-$$
