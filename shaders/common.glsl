@@ -46,7 +46,8 @@ struct DepthToInvZ {
   float invDepthRange;
 };
 
-// Must match PassUniforms in layer/core/src/pass_uniforms.h (std140; offsets checked there).
+// Must match PassUniforms in layer/core/src/pass_uniforms.h (std140; offsets checked there and
+// by tests/core/filter_test_uniform_layout.cpp).
 // A pass ignores the members it does not need; per-pipeline switches are the constants above.
 layout(set = 0, binding = 6, std140) uniform PassParams {
   // (x, y, 1, 1/z) of this pixel -> homogeneous pixel coords in src1's rect: temporal, the
