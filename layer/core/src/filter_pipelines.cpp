@@ -4,6 +4,8 @@
 #include <chrono>
 #include <system_error>
 
+#include "filter_error.h"
+
 #include "steadyxr/shaders/copy_rgba16f_spv.h"
 #include "steadyxr/shaders/copy_rgba8_spv.h"
 #include "steadyxr/shaders/fxaa_rgba16f_spv.h"
@@ -14,14 +16,6 @@
 #include "steadyxr/shaders/temporal_rgba8_spv.h"
 
 namespace steadyxr::core::detail {
-
-namespace {
-
-void fail(std::string* error, const std::string& msg) {
-  if (error) *error = msg;
-}
-
-}  // namespace
 
 CompiledPipeline compilePipeline(VkDevice device, VkPipelineLayout layout, Pass pass, OutFmt fmt,
                                  SpecKey spec) {

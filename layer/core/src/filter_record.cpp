@@ -5,26 +5,28 @@
 #include <string>
 #include <vector>
 
+#include "filter_error.h"
 #include "filter_formats.h"
 #include "filter_impl.h"
 
 namespace steadyxr::core {
 
 using detail::Binding;
-using detail::FramePlan;
-using detail::OwnedImage;
-using detail::Pass;
-using detail::PassDispatch;
-using detail::PassIo;
-using detail::Slot;
 using detail::descriptorType;
+using detail::fail;
+using detail::FramePlan;
 using detail::hasStencil;
 using detail::kBindings;
 using detail::kMaxDispatches;
 using detail::kOut8;
 using detail::kQueries;
 using detail::kSlots;
+using detail::OwnedImage;
+using detail::Pass;
+using detail::PassDispatch;
+using detail::PassIo;
 using detail::passSpecKey;
+using detail::Slot;
 
 namespace {
 
@@ -47,10 +49,6 @@ bool blockPixels(const Params& params, const VulkanContext& ctx) {
       break;
   }
   return ctx.isCpuDevice();
-}
-
-void fail(std::string* error, const std::string& msg) {
-  if (error) *error = msg;
 }
 
 }  // namespace

@@ -4,25 +4,19 @@
 #include <string>
 #include <vector>
 
+#include "filter_error.h"
 #include "filter_impl.h"
 #include "pass_uniforms.h"
 
 namespace steadyxr::core {
 
-using detail::OwnedImage;
-using detail::Slot;
 using detail::descriptorType;
+using detail::fail;
 using detail::kBindings;
 using detail::kMaxDispatches;
 using detail::kQueries;
-
-namespace {
-
-void fail(std::string* error, const std::string& msg) {
-  if (error) *error = msg;
-}
-
-}  // namespace
+using detail::OwnedImage;
+using detail::Slot;
 
 bool Filter::Impl::createImage(OwnedImage& img, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
                                std::string* error) {

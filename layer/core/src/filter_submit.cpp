@@ -5,6 +5,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "filter_error.h"
 #include "filter_formats.h"
 #include "filter_geometry.h"
 #include "filter_impl.h"
@@ -12,16 +13,12 @@
 
 namespace steadyxr::core {
 
-using detail::EyeState;
-using detail::FramePlan;
-using detail::OwnedImage;
-using detail::PassContext;
-using detail::PassDispatch;
-using detail::Slot;
-using detail::Target;
 using detail::copyPass;
+using detail::EyeState;
+using detail::fail;
 using detail::finiteFov;
 using detail::finitePose;
+using detail::FramePlan;
 using detail::fxaaPass;
 using detail::isBgra;
 using detail::isDepthFormat;
@@ -30,20 +27,17 @@ using detail::isSrgb;
 using detail::isUnorm8;
 using detail::kOut16;
 using detail::kOut8;
+using detail::OwnedImage;
+using detail::PassContext;
+using detail::PassDispatch;
 using detail::rectInside;
 using detail::sameExtent;
 using detail::sampledLayout;
+using detail::Slot;
 using detail::stereoPass;
+using detail::Target;
 using detail::temporalPass;
 using detail::validDepth;
-
-namespace {
-
-void fail(std::string* error, const std::string& msg) {
-  if (error) *error = msg;
-}
-
-}  // namespace
 
 bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, std::string* error,
                           VkSemaphore signal) {
