@@ -8,7 +8,7 @@
 #define OUT_FORMAT rgba8
 #endif
 
-// Workgroup size: specialisation constants 11 and 12, chosen per device by the host (filter.cpp).
+// Workgroup size: specialisation constants 11 and 12, chosen per device by the host (filter_record.cpp).
 layout(local_size_x = 16, local_size_y = 8) in;
 layout(local_size_x_id = 11, local_size_y_id = 12) in;
 
@@ -46,7 +46,8 @@ struct DepthToInvZ {
   float invDepthRange;
 };
 
-// Must match PassUniforms in layer/core/src/pass_uniforms.h (std140; offsets checked there).
+// Must match PassUniforms in layer/core/src/pass_uniforms.h (std140; offsets checked there and
+// by tests/core/filter_test_uniform_layout.cpp).
 // A pass ignores the members it does not need; per-pipeline switches are the constants above.
 layout(set = 0, binding = 6, std140) uniform PassParams {
   // (x, y, 1, 1/z) of this pixel -> homogeneous pixel coords in src1's rect: temporal, the
@@ -105,7 +106,7 @@ vec3 fetchSrc0(ivec2 p) {
 // On a CPU device every pass but fxaa runs 4x4 pixels per invocation (kBlocked): the sixteen 3x3
 // neighbourhoods of temporal and stereo share one 6x6 block of src0 fetches (36 instead of 144),
 // and on llvmpipe fetches dominate the cost; passes that share no fetches gain too (figures at
-// blockPixels in filter.cpp). On a GPU one pixel per invocation: neighbouring invocations touch
+// blockPixels in filter_record.cpp). On a GPU one pixel per invocation: neighbouring invocations touch
 // neighbouring texels, so a warp's loads and stores coalesce and the texture cache serves the 3x3.
 // Loops over the block carry [[unroll]] and per-pixel calls are written out: a loop that is not
 // unrolled leaves the block arrays in memory on llvmpipe (measured at 1024x1024: the default

@@ -1,5 +1,6 @@
 // Independent CPU implementations of the filter passes, written from the equations (seed 001,
-// 002, 003) with the view_math projection (unit tested separately), not from filter.cpp.
+// 002, 003) with the view_math projection (unit tested separately), not from the filter core
+// (layer/core/src/filter_*).
 #pragma once
 
 #include "gpu_image.h"

@@ -60,7 +60,8 @@ struct PassUniforms {
   float steadyFootprint;         // steady: k of the [k, 1 - 2k, k]^2 footprint filter (0 = off)
 };
 
-// std140 offsets of PassParams in common.glsl; a member moved on one side only fails here.
+// std140 offsets of PassParams in common.glsl: a host member moved fails here, a shader member
+// moved fails tests/core/filter_test_uniform_layout.cpp (which reads the shaders' SPIR-V).
 static_assert(offsetof(PassUniforms, reproj) == 0);
 static_assert(offsetof(PassUniforms, sampleWeights) == 256);
 static_assert(offsetof(PassUniforms, src0Offset) == 272);

@@ -1,0 +1,92 @@
+// Filter::Impl: the state the filter keeps between frames, and the named steps of submit.
+#pragma once
+
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "filter_passes.h"
+#include "filter_pipelines.h"
+#include "filter_resources.h"
+#include "steadyxr/core/filter.h"
+
+namespace steadyxr::core {
+
+struct Filter::Impl {
+  using ViewKey = std::tuple<VkImage, VkFormat, uint32_t, VkImageAspectFlags>;
+
+  VulkanContext& ctx;
+  VkDevice device;
+  Params params;
+  Params pendingParams;
+  bool paramsChanged = false;
+  bool resetRequested = true;
+  bool timestamps = false;
+  float timestampPeriodNs = 1.0f;
+  VkDeviceSize uboStride = 512;
+
+  Unique<VkSampler> sampler;         // linear: colour
+  Unique<VkSampler> samplerNearest;  // depth (texelFetch only)
+  Unique<VkDescriptorSetLayout> setLayout;
+  Unique<VkPipelineLayout> pipelineLayout;
+  detail::PipelineCache pipelines;
+  std::array<detail::Slot, detail::kSlots> slots;
+  std::array<detail::EyeState, 2> eyes;
+  uint32_t historyIndex = 0;   // which history image is written this frame
+  detail::OwnedImage dummy16;  // 1x1 RGBA16F: unused samplers and history writes
+  detail::OwnedImage dummy8;   // 1x1 RGBA8: unused output writes
+  std::map<ViewKey, Unique<VkImageView>> views;
+  uint64_t frameCounter = 0;
+  std::optional<PassTimings> timings;
+
+  Impl(VulkanContext& c, const FilterOptions& options)
+      : ctx(c), device(c.device()), pipelines(c.device(), options.compileInBackground) {}
+  ~Impl() { waitAll(); }
+
+  // Resources (filter_resources.cpp).
+  bool init(std::string* error);
+  bool createImage(detail::OwnedImage& img, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
+                   std::string* error);
+  VkImageView view(VkImage image, VkFormat format, uint32_t layer, VkImageAspectFlags aspect,
+                   std::string* error);
+  void collect(detail::Slot& s);  // waits for the slot's frame and reads its timestamps
+  void waitAll();
+
+  // submit and its steps, in order (filter_submit.cpp).
+  bool submit(const StereoFrame& frame, const StereoOutput& output, std::string* error, VkSemaphore signal);
+  void applyPendingParams();
+  bool checkInputs(const StereoFrame& frame, const StereoOutput& output, detail::FramePlan& plan,
+                   std::string* error) const;
+  bool prepareEyes(const StereoFrame& frame, detail::FramePlan& plan, std::string* error);
+  bool bindTargets(const StereoFrame& frame, const StereoOutput& output, detail::FramePlan& plan,
+                   std::string* error);
+  bool recordPasses(detail::Slot& s, const StereoFrame& frame, const StereoOutput& output,
+                    const detail::FramePlan& plan, std::string* error);
+  bool submitRecording(detail::Slot& s, VkSemaphore signal, std::string* error);
+  void advanceEyes(const StereoFrame& frame, const detail::FramePlan& plan);
+
+  // Command recording (filter_record.cpp).
+  detail::Slot& beginRecording();
+  // Layout transitions of every image the frame touches into the layouts the passes use; returns
+  // the barriers that turn the app's images back into their final layouts.
+  std::vector<VkImageMemoryBarrier> transitionIn(VkCommandBuffer cmd, const StereoFrame& frame,
+                                                 const StereoOutput& output, const detail::FramePlan& plan);
+  // Scratch outputs copied to the app's images, then every image back to its final layout.
+  void transitionOut(VkCommandBuffer cmd, const StereoOutput& output, const detail::FramePlan& plan, bool ok,
+                     std::vector<VkImageMemoryBarrier> post);
+  void timestamp(const detail::Slot& s, uint32_t query);
+  // The dispatches of one frame so far: each takes the next uniform buffer range.
+  struct Recording {
+    detail::Slot& slot;
+    uint32_t dispatchIndex = 0;
+    VkPipeline bound = VK_NULL_HANDLE;
+  };
+  // One dispatch: its pipeline, uniforms and descriptor set. True when recorded, or skipped only
+  // because its pipeline is still compiling.
+  bool record(Recording& rec, const detail::PassDispatch& d, std::string* error);
+};
+
+}  // namespace steadyxr::core

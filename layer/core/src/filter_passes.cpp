@@ -1,0 +1,206 @@
+// One unit per pass on the host side: what it reads and writes, its specialisation key and its
+// uniforms (copy, fxaa, temporal, stereo).
+#include "filter_passes.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "filter_geometry.h"
+#include "steadyxr/core/view_math.h"
+
+namespace steadyxr::core::detail {
+
+namespace {
+
+// The uniforms every pass of eye e shares: its input rect, where its output goes, the
+// parameters, and this eye's depth.
+PassUniforms baseUniforms(const PassContext& c, uint32_t e) {
+  const Params& params = c.params;
+  const float invFar = std::isinf(params.stereoFarDistanceM) ? 0.0f : 1.0f / params.stereoFarDistanceM;
+  const float h = c.frame.headSpeedDegPerSec;
+  const float shape = std::isfinite(h) && h <= params.hMaxDegPerSec
+                          ? globalWeightA(h, params.hMaxDegPerSec, 0.0f)
+                          : 1.0f;  // seed 003 Eq. 4 with w_min = 0: S
+  PassUniforms u{};
+  const ImageRef& in = c.frame.views[e].color;
+  u.src0Offset = {in.rect.offset.x, in.rect.offset.y};
+  u.src0Size = {in.rect.extent.width, in.rect.extent.height};
+  u.src0InvExtent = {1.0f / static_cast<float>(in.extent.width), 1.0f / static_cast<float>(in.extent.height)};
+  const ImageRef& out = c.output.views[e];
+  if (!c.plan.targets[e].scratch) u.outOffset = {out.rect.offset.x, out.rect.offset.y};
+  u.appInputOffset = {in.rect.offset.x, in.rect.offset.y};
+  u.taaAlpha = params.taaAlpha;
+  u.clipGamma = params.taaClipGamma;
+  u.alphaMin = params.vtaaAlphaMin;
+  u.shapeS = shape;
+  u.wMin = params.wMin;
+  u.wLowerBound = params.wLowerBound;
+  u.stereoDepthTolerance = params.stereoDepthTolerance;
+  u.fallbackInvZ = invFar;
+  if (c.plan.hasDepth[e]) {
+    u.depth0 = depthToInvZ(*c.frame.views[e].depth);
+    const auto& r = c.frame.views[e].depth->image.rect;
+    u.depth0Offset = {r.offset.x, r.offset.y};
+  }
+  return u;
+}
+
+PassSwitches baseSwitches(const PassContext& c, uint32_t e) {
+  PassSwitches sw;
+  sw.encodeSrgb = c.plan.targets[e].srgb;
+  sw.swapRedBlue = c.plan.targets[e].swap;
+  sw.depthBits = c.plan.hasDepth[e] ? 1 : 0;
+  return sw;
+}
+
+Binding historyBinding(const PassContext& c, uint32_t e, uint32_t i) {
+  return Binding{c.eyes[e].history[i].view.get(), VK_IMAGE_LAYOUT_GENERAL, true};
+}
+glm::ivec2 historySize(const PassContext& c, uint32_t e) {
+  return {c.eyes[e].size.width, c.eyes[e].size.height};
+}
+glm::vec2 historyInvExtent(const PassContext& c, uint32_t e) {
+  return {1.0f / static_cast<float>(c.eyes[e].size.width), 1.0f / static_cast<float>(c.eyes[e].size.height)};
+}
+
+// What copy, fxaa and temporal share: read the input, write this frame's history when stereo
+// follows or the method is temporal, and the output when no stereo pass follows.
+PassDispatch firstStage(const PassContext& c, uint32_t e, Pass pass) {
+  PassDispatch d;
+  d.pass = pass;
+  d.uniforms = baseUniforms(c, e);
+  d.switches = baseSwitches(c, e);
+  const bool stereo = c.plan.stereo;
+  d.fmt = stereo ? kOut8 : c.plan.targets[e].fmt;
+  d.switches.writeOutput = !stereo;
+  d.switches.writeHistory = c.plan.temporal || stereo;
+  d.io.src0 = c.plan.inputs[e];
+  d.io.appInput = c.plan.inputs[e];
+  d.io.historyOut = d.switches.writeHistory ? c.eyes[e].history[c.historyWrite].view.get() : VK_NULL_HANDLE;
+  d.io.output = stereo ? VK_NULL_HANDLE : c.plan.targets[e].view;
+  return d;
+}
+
+}  // namespace
+
+PassDispatch copyPass(const PassContext& c, uint32_t e) {
+  return firstStage(c, e, Pass::Copy);
+}
+
+PassDispatch fxaaPass(const PassContext& c, uint32_t e) {
+  return firstStage(c, e, Pass::Fxaa);
+}
+
+PassDispatch temporalPass(const PassContext& c, uint32_t e) {
+  PassDispatch d = firstStage(c, e, Pass::Temporal);
+  PassUniforms& u = d.uniforms;
+  const Params& params = c.params;
+  const TemporalMethod method = params.temporal;
+  const ViewFrame& v = c.frame.views[e];
+  const EyeState& eye = c.eyes[e];
+  d.io.src1 = historyBinding(c, e, c.historyWrite ^ 1u);
+  d.io.depth0 = c.plan.depths[e];
+  u.src1Offset = {0, 0};
+  u.src1Size = historySize(c, e);
+  u.src1InvExtent = historyInvExtent(c, e);
+  u.historyValid = eye.valid ? 1 : 0;
+  // Seed 003 Eq. 1: the past samples through poses interpolated between the previous and this
+  // one, weighted by W(d_i) of Eq. 2 (hmtaa, hybrid; steady when steadyInterpolated, one sample).
+  const bool steady = method == TemporalMethod::Steady;
+  const bool interpolated = method == TemporalMethod::Hmtaa || method == TemporalMethod::Hybrid ||
+                            (steady && params.steadyInterpolated);
+  const uint32_t count = interpolated && !steady ? params.sampleCount : 1u;
+  std::array<float, Params::kMaxSamples> w{};
+  sampleWeightsW(params.sampleD.data(), count, w.data());
+  for (uint32_t i = 0; i < count && eye.valid; ++i) {
+    const Pose at = interpolated ? interpolatePose(eye.prevPose, v.pose, params.sampleD[i]) : eye.prevPose;
+    u.reproj[i] = reprojection(v.pose, v.fov, eye.size, at, eye.prevFov, eye.size);
+    u.sampleWeights[static_cast<int>(i)] = w[i];
+  }
+  d.switches.mode = method == TemporalMethod::Taa     ? kModeTaa
+                    : method == TemporalMethod::Hmtaa ? kModeHmtaa
+                    : method == TemporalMethod::Vtaa  ? kModeVtaa
+                    : steady                          ? kModeSteady
+                                                      : kModeHybrid;
+  d.switches.sampleCount = static_cast<int32_t>(count);
+  if (steady) {  // the steady mode's own uniforms (common.glsl, PassParams)
+    u.clipGamma = params.steadyClipGamma;
+    u.steadyAlphaFloor = params.steadyAlphaFloor;
+    u.steadyConfidence = params.steadyConfidence ? 1.0f : 0.0f;
+    u.steadyClipRejects = params.steadyClipRejects ? 1.0f : 0.0f;
+    u.steadyInvBlurBudgetPx2 = params.steadyBlurBudgetPx2 > 0.0f ? 1.0f / params.steadyBlurBudgetPx2 : 0.0f;
+    u.steadyFootprint = params.steadyFootprint;
+  }
+  u.jitterPx = v.jitterPx;
+  if (!std::isfinite(u.jitterPx.x) || !std::isfinite(u.jitterPx.y) || std::abs(u.jitterPx.x) > 1.0f ||
+      std::abs(u.jitterPx.y) > 1.0f)
+    u.jitterPx = glm::vec2(0.0f);  // sub-pixel only; anything else is a caller bug: ignore it
+  if (steady && eye.valid)
+    u.parallaxSpreadPx2 = c.plan.hasDepth[e] ? 0.0f : parallaxSpreadPx2(params, v, eye.prevPose, eye.size);
+  return d;
+}
+
+PassDispatch stereoPass(const PassContext& c, uint32_t e) {
+  const uint32_t o = 1 - e;
+  PassDispatch d;
+  d.pass = Pass::Stereo;
+  d.fmt = c.plan.targets[e].fmt;
+  PassUniforms& u = d.uniforms;
+  u = baseUniforms(c, e);
+  d.switches = baseSwitches(c, e);
+  d.switches.writeOutput = true;
+  d.io = {c.plan.inputs[e], c.plan.inputs[o],       c.plan.depths[e], c.plan.depths[o],
+          VK_NULL_HANDLE,   c.plan.targets[e].view, c.plan.inputs[e]};
+  const ImageRef& inO = c.frame.views[o].color;
+  u.src1Offset = {inO.rect.offset.x, inO.rect.offset.y};
+  u.src1Size = {inO.rect.extent.width, inO.rect.extent.height};
+  u.src1InvExtent = {1.0f / static_cast<float>(inO.extent.width),
+                     1.0f / static_cast<float>(inO.extent.height)};
+  if (c.plan.firstStage) {  // the temporal/FXAA result sits in this frame's history image
+    d.io.src0 = historyBinding(c, e, c.historyWrite);
+    d.io.src1 = historyBinding(c, o, c.historyWrite);
+    u.src0Offset = {0, 0};
+    u.src0Size = historySize(c, e);
+    u.src0InvExtent = historyInvExtent(c, e);
+    u.src1Offset = {0, 0};
+    u.src1Size = historySize(c, o);
+    u.src1InvExtent = historyInvExtent(c, o);
+  }
+  if (c.plan.poseOk[e] && c.plan.poseOk[o]) {
+    const ViewFrame& ve = c.frame.views[e];
+    const ViewFrame& vo = c.frame.views[o];
+    u.reproj[0] = reprojection(ve.pose, ve.fov, ve.color.rect.extent, vo.pose, vo.fov, vo.color.rect.extent);
+  }  // else all zero: every reprojection fails and the eye is shown as is
+  if (c.plan.hasDepth[o]) {
+    u.depth1 = depthToInvZ(*c.frame.views[o].depth);
+    const auto& r = c.frame.views[o].depth->image.rect;
+    u.depth1Offset = {r.offset.x, r.offset.y};
+    d.switches.depthBits |= 2;
+  }
+  u.stereoBetaMin = c.params.stereoBetaMin;
+  return d;
+}
+
+SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, uint32_t groupX,
+                    uint32_t groupY) {
+  const PassSwitches& sw = d.switches;
+  const bool temporal = d.pass == Pass::Temporal;
+  const bool writeOut = sw.writeOutput;
+  const bool jittered =
+      params.jitteredInput || d.uniforms.jitterPx.x != 0.0f || d.uniforms.jitterPx.y != 0.0f;
+  return {temporal ? sw.mode : 0,
+          temporal ? std::max(sw.sampleCount, 1) : 1,
+          writeOut ? 1 : 0,
+          sw.writeHistory ? 1 : 0,
+          writeOut && sw.encodeSrgb ? 1 : 0,
+          writeOut && sw.swapRedBlue ? 1 : 0,
+          sw.depthBits,
+          (d.io.src0.clean ? 1 : 0) | (d.io.src1.clean ? 2 : 0),
+          temporal && jittered ? 1 : 0,
+          temporal && params.historyFilter == HistoryFilter::CatmullRom ? 1 : 0,
+          blocked ? 1 : 0,
+          static_cast<int32_t>(groupX),
+          static_cast<int32_t>(groupY)};
+}
+
+}  // namespace steadyxr::core::detail

@@ -1,0 +1,106 @@
+// One unit per pass on the host side: what it reads and writes, its specialisation key and its
+// uniforms (copy, fxaa, temporal, stereo).
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include <vulkan/vulkan.h>
+
+#include "filter_pipelines.h"
+#include "filter_resources.h"
+#include "pass_uniforms.h"
+#include "steadyxr/core/frame.h"
+#include "steadyxr/core/params.h"
+
+namespace steadyxr::core::detail {
+
+// The temporal pass's kMode (temporal.comp).
+constexpr int kModeTaa = 0, kModeHmtaa = 1, kModeVtaa = 2, kModeHybrid = 3, kModeSteady = 4;
+
+// The per-pipeline switches of one dispatch; they become specialisation constants (SpecKey,
+// constant_id in common.glsl), not uniforms.
+struct PassSwitches {
+  int32_t mode = 0;         // temporal: kModeTaa ... kModeSteady
+  int32_t sampleCount = 1;  // temporal: past samples (seed 003 Eq. 2)
+  bool writeOutput = false;
+  bool writeHistory = false;
+  bool encodeSrgb = false;
+  bool swapRedBlue = false;
+  int32_t depthBits = 0;  // bit0: this eye's depth, bit1: the other eye's
+};
+
+// An image a pass samples.
+struct Binding {
+  VkImageView view = VK_NULL_HANDLE;
+  VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL;
+  bool clean = false;  // finite by construction (our history, 8-bit input): the shader skips sanitising
+};
+
+// What one dispatch reads and writes, by binding of common.glsl; a null view is a 1x1 dummy.
+struct PassIo {
+  Binding src0;                             // 0: this eye (input or this frame's history)
+  Binding src1;                             // 1: the history (temporal) or the other eye (stereo)
+  Binding depth0;                           // 2: this eye's depth
+  Binding depth1;                           // 3: the other eye's depth
+  VkImageView historyOut = VK_NULL_HANDLE;  // 4: this frame's history
+  VkImageView output = VK_NULL_HANDLE;      // 5: the output (or its scratch image)
+  Binding appInput;                         // 7: the app's input of this eye (every output's alpha)
+};
+
+// One dispatch, ready to record.
+struct PassDispatch {
+  Pass pass = Pass::Copy;
+  OutFmt fmt = kOut8;
+  PassUniforms uniforms{};
+  PassSwitches switches;
+  PassIo io;
+};
+
+// Where an eye's output goes: its storage view, or an intermediate copied to it.
+struct Target {
+  VkImageView view = VK_NULL_HANDLE;
+  OutFmt fmt = kOut8;
+  OwnedImage* scratch = nullptr;  // non-null: write here, then vkCmdCopyImage to the output
+  bool srgb = false;
+  bool swap = false;
+};
+
+// What submit decided about this frame before recording: the passes to run, and per eye its
+// checked inputs and bound images.
+struct FramePlan {
+  uint32_t viewCount = 0;
+  bool temporal = false;    // a temporal method runs in the first stage
+  bool fxaa = false;        // fxaa runs in the first stage
+  bool stereo = false;      // the stereo pass follows
+  bool firstStage = false;  // copy, fxaa or temporal runs (`none` + stereo reads the inputs directly)
+  std::array<bool, 2> hasDepth{false, false};
+  std::array<bool, 2> poseOk{false, false};
+  std::array<Target, 2> targets{};
+  std::array<Binding, 2> inputs{}, depths{};
+};
+
+// What the pass units read: the frame, its plan, the eyes' history and which image is written.
+struct PassContext {
+  const StereoFrame& frame;
+  const StereoOutput& output;
+  const Params& params;
+  const FramePlan& plan;
+  const std::array<EyeState, 2>& eyes;
+  uint32_t historyWrite;  // eyes[e].history[historyWrite] is written this frame, the other read
+};
+
+// The first stage of eye e: the app's input through copy, fxaa or a temporal method into this
+// frame's history (when stereo follows or the method is temporal) and the output (unless stereo
+// follows).
+PassDispatch copyPass(const PassContext& c, uint32_t e);
+PassDispatch fxaaPass(const PassContext& c, uint32_t e);
+PassDispatch temporalPass(const PassContext& c, uint32_t e);
+// The stereo pass of eye e: this eye blended with the other (seed 002 §4.1), into the output.
+PassDispatch stereoPass(const PassContext& c, uint32_t e);
+
+// The specialisation constants of a dispatch (constant_id order of common.glsl).
+SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, uint32_t groupX,
+                    uint32_t groupY);
+
+}  // namespace steadyxr::core::detail

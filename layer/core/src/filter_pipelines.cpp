@@ -1,0 +1,116 @@
+// The compute pipelines of the filter's passes, one per specialisation, compiled on demand.
+#include "filter_pipelines.h"
+
+#include <chrono>
+#include <system_error>
+
+#include "filter_error.h"
+
+#include "steadyxr/shaders/copy_rgba16f_spv.h"
+#include "steadyxr/shaders/copy_rgba8_spv.h"
+#include "steadyxr/shaders/fxaa_rgba16f_spv.h"
+#include "steadyxr/shaders/fxaa_rgba8_spv.h"
+#include "steadyxr/shaders/stereo_rgba16f_spv.h"
+#include "steadyxr/shaders/stereo_rgba8_spv.h"
+#include "steadyxr/shaders/temporal_rgba16f_spv.h"
+#include "steadyxr/shaders/temporal_rgba8_spv.h"
+
+namespace steadyxr::core::detail {
+
+CompiledPipeline compilePipeline(VkDevice device, VkPipelineLayout layout, Pass pass, OutFmt fmt,
+                                 SpecKey spec) {
+  const uint32_t* code = nullptr;
+  size_t size = 0;
+  auto pick = [&](const auto& a, const auto& b) {
+    code = fmt == kOut8 ? a : b;
+    size = fmt == kOut8 ? sizeof(a) : sizeof(b);
+  };
+  switch (pass) {
+    case Pass::Copy:
+      pick(copy_rgba8_spv, copy_rgba16f_spv);
+      break;
+    case Pass::Temporal:
+      pick(temporal_rgba8_spv, temporal_rgba16f_spv);
+      break;
+    case Pass::Stereo:
+      pick(stereo_rgba8_spv, stereo_rgba16f_spv);
+      break;
+    case Pass::Fxaa:
+      pick(fxaa_rgba8_spv, fxaa_rgba16f_spv);
+      break;
+    default:
+      return {VK_NULL_HANDLE, "no shader for this pass"};
+  }
+  VkShaderModuleCreateInfo smci{};
+  smci.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
+  smci.codeSize = size;
+  smci.pCode = code;
+  VkShaderModule module = VK_NULL_HANDLE;
+  if (vkCreateShaderModule(device, &smci, nullptr, &module) != VK_SUCCESS)
+    return {VK_NULL_HANDLE, "vkCreateShaderModule failed"};
+  Unique<VkShaderModule> moduleOwner(device, module, vkDestroyShaderModule);
+  VkComputePipelineCreateInfo cpci{};
+  cpci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+  cpci.stage = {};
+  cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+  cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  cpci.stage.module = module;
+  cpci.stage.pName = "main";
+  std::array<VkSpecializationMapEntry, std::tuple_size_v<SpecKey>> entries{};
+  for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, i * 4u, 4u};  // int and VkBool32: 4 bytes
+  VkSpecializationInfo si{};
+  si.mapEntryCount = static_cast<uint32_t>(entries.size());
+  si.pMapEntries = entries.data();
+  si.dataSize = sizeof(SpecKey);
+  si.pData = spec.data();
+  cpci.stage.pSpecializationInfo = &si;
+  cpci.layout = layout;
+  VkPipeline p = VK_NULL_HANDLE;
+  if (vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &cpci, nullptr, &p) != VK_SUCCESS)
+    return {VK_NULL_HANDLE, "vkCreateComputePipelines failed"};
+  return {p, {}};
+}
+
+PipelineSlot::~PipelineSlot() {
+  if (!pending.valid()) return;
+  const CompiledPipeline c = pending.get();  // joins the worker; its pipeline was never used
+  if (c.pipeline) vkDestroyPipeline(device, c.pipeline, nullptr);
+}
+
+VkPipeline PipelineCache::get(Pass pass, OutFmt fmt, const SpecKey& spec, std::string* error) {
+  PipelineSlot& slot = slots_[{pass, fmt, spec}];
+  if (slot.pipeline) return slot.pipeline.get();
+  if (!slot.error.empty()) {  // failed before: not retried every frame
+    fail(error, slot.error);
+    return VK_NULL_HANDLE;
+  }
+  slot.device = device_;
+  if (!slot.pending.valid()) {
+    if (background_) {
+      try {
+        slot.pending = std::async(std::launch::async, compilePipeline, device_, layout_, pass, fmt, spec);
+      } catch (const std::system_error&) {  // no thread to be had: compile here instead
+      }
+    }
+    if (!slot.pending.valid()) {
+      std::promise<CompiledPipeline> now;
+      now.set_value(compilePipeline(device_, layout_, pass, fmt, spec));
+      slot.pending = now.get_future();
+    }
+  }
+  if (slot.pending.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+    compiling = true;
+    fail(error, "the filter's pipelines are still compiling");
+    return VK_NULL_HANDLE;
+  }
+  CompiledPipeline c = slot.pending.get();
+  if (!c.pipeline) {
+    slot.error = c.error;
+    fail(error, slot.error);
+    return VK_NULL_HANDLE;
+  }
+  slot.pipeline = Unique<VkPipeline>(device_, c.pipeline);
+  return c.pipeline;
+}
+
+}  // namespace steadyxr::core::detail

@@ -1,0 +1,249 @@
+// The filter's own GPU objects: samplers, layouts, per-frame slots, internal images, view cache.
+#include <algorithm>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "filter_error.h"
+#include "filter_impl.h"
+#include "pass_uniforms.h"
+
+namespace steadyxr::core {
+
+using detail::descriptorType;
+using detail::fail;
+using detail::kBindings;
+using detail::kMaxDispatches;
+using detail::kQueries;
+using detail::OwnedImage;
+using detail::Slot;
+
+bool Filter::Impl::createImage(OwnedImage& img, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
+                               std::string* error) {
+  img = OwnedImage{};
+  VkImageCreateInfo ici{};
+  ici.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
+  ici.imageType = VK_IMAGE_TYPE_2D;
+  ici.format = format;
+  ici.extent = {extent.width, extent.height, 1};
+  ici.mipLevels = 1;
+  ici.arrayLayers = 1;
+  ici.samples = VK_SAMPLE_COUNT_1_BIT;
+  ici.tiling = VK_IMAGE_TILING_OPTIMAL;
+  ici.usage = usage;
+  ici.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VkImage image = VK_NULL_HANDLE;
+  if (vkCreateImage(device, &ici, nullptr, &image) != VK_SUCCESS) {
+    fail(error, "vkCreateImage failed");
+    return false;
+  }
+  img.image = Unique<VkImage>(device, image);
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(device, image, &req);
+  VkMemoryAllocateInfo mai{};
+  mai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+  mai.allocationSize = req.size;
+  mai.memoryTypeIndex = ctx.findMemoryType(req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  VkDeviceMemory mem = VK_NULL_HANDLE;
+  if (mai.memoryTypeIndex == UINT32_MAX || vkAllocateMemory(device, &mai, nullptr, &mem) != VK_SUCCESS) {
+    fail(error, "out of device memory for an internal image");
+    return false;
+  }
+  img.memory = Unique<VkDeviceMemory>(device, mem);
+  vkBindImageMemory(device, image, mem, 0);
+  VkImageViewCreateInfo vci{};
+  vci.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO;
+  vci.image = image;
+  vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  vci.format = format;
+  vci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  VkImageView v = VK_NULL_HANDLE;
+  if (vkCreateImageView(device, &vci, nullptr, &v) != VK_SUCCESS) {
+    fail(error, "vkCreateImageView failed");
+    return false;
+  }
+  img.view = Unique<VkImageView>(device, v);
+  img.extent = extent;
+  img.format = format;
+  return true;
+}
+
+bool Filter::Impl::init(std::string* error) {
+  uint32_t qn = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(ctx.physicalDevice(), &qn, nullptr);
+  std::vector<VkQueueFamilyProperties> qf(qn);
+  vkGetPhysicalDeviceQueueFamilyProperties(ctx.physicalDevice(), &qn, qf.data());
+  const auto& props = ctx.properties();
+  timestamps = ctx.queueFamilyIndex() < qn && qf[ctx.queueFamilyIndex()].timestampValidBits > 0 &&
+               props.limits.timestampPeriod > 0.0f;
+  timestampPeriodNs = props.limits.timestampPeriod;
+  const VkDeviceSize align = std::max<VkDeviceSize>(props.limits.minUniformBufferOffsetAlignment, 16);
+  uboStride = (sizeof(PassUniforms) + align - 1) / align * align;
+
+  VkSamplerCreateInfo sci{};
+
+  sci.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO;
+  sci.magFilter = sci.minFilter = VK_FILTER_LINEAR;
+  sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  sci.maxLod = 0.0f;
+  VkSampler smp = VK_NULL_HANDLE;
+  if (vkCreateSampler(device, &sci, nullptr, &smp) != VK_SUCCESS)
+    return fail(error, "vkCreateSampler failed"), false;
+  sampler = Unique<VkSampler>(device, smp);
+  sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
+  if (vkCreateSampler(device, &sci, nullptr, &smp) != VK_SUCCESS)
+    return fail(error, "vkCreateSampler failed"), false;
+  samplerNearest = Unique<VkSampler>(device, smp);
+
+  std::array<VkDescriptorSetLayoutBinding, kBindings> b{};
+  for (uint32_t i = 0; i < b.size(); ++i) {
+    b[i].binding = i;
+    b[i].descriptorCount = 1;
+    b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    b[i].descriptorType = descriptorType(i);
+  }
+  VkDescriptorSetLayoutCreateInfo dlci{};
+  dlci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+  dlci.bindingCount = static_cast<uint32_t>(b.size());
+  dlci.pBindings = b.data();
+  VkDescriptorSetLayout dsl = VK_NULL_HANDLE;
+  if (vkCreateDescriptorSetLayout(device, &dlci, nullptr, &dsl) != VK_SUCCESS)
+    return fail(error, "vkCreateDescriptorSetLayout failed"), false;
+  setLayout = Unique<VkDescriptorSetLayout>(device, dsl);
+  VkPipelineLayoutCreateInfo plci{};
+  plci.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+  plci.setLayoutCount = 1;
+  plci.pSetLayouts = &dsl;
+  VkPipelineLayout pl = VK_NULL_HANDLE;
+  if (vkCreatePipelineLayout(device, &plci, nullptr, &pl) != VK_SUCCESS)
+    return fail(error, "vkCreatePipelineLayout failed"), false;
+  pipelineLayout = Unique<VkPipelineLayout>(device, pl);
+  pipelines.setLayout(pl);
+
+  for (auto& s : slots) {
+    VkCommandPoolCreateInfo cpci{};
+    cpci.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+    cpci.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
+    cpci.queueFamilyIndex = ctx.queueFamilyIndex();
+    VkCommandPool pool = VK_NULL_HANDLE;
+    if (vkCreateCommandPool(device, &cpci, nullptr, &pool) != VK_SUCCESS)
+      return fail(error, "vkCreateCommandPool failed"), false;
+    s.pool = Unique<VkCommandPool>(device, pool);
+    VkCommandBufferAllocateInfo cbai{};
+    cbai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+    cbai.commandPool = pool;
+    cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    cbai.commandBufferCount = 1;
+    if (vkAllocateCommandBuffers(device, &cbai, &s.cmd) != VK_SUCCESS)
+      return fail(error, "vkAllocateCommandBuffers failed"), false;
+    VkFenceCreateInfo fci{};
+    fci.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
+    VkFence fence = VK_NULL_HANDLE;
+    if (vkCreateFence(device, &fci, nullptr, &fence) != VK_SUCCESS)
+      return fail(error, "vkCreateFence failed"), false;
+    s.fence = Unique<VkFence>(device, fence);
+    std::array<VkDescriptorPoolSize, 3> sizes{{
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 5 * kMaxDispatches},
+        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * kMaxDispatches},
+        {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kMaxDispatches},
+    }};
+    VkDescriptorPoolCreateInfo dpci{};
+    dpci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+    dpci.maxSets = kMaxDispatches;
+    dpci.poolSizeCount = static_cast<uint32_t>(sizes.size());
+    dpci.pPoolSizes = sizes.data();
+    VkDescriptorPool dp = VK_NULL_HANDLE;
+    if (vkCreateDescriptorPool(device, &dpci, nullptr, &dp) != VK_SUCCESS)
+      return fail(error, "vkCreateDescriptorPool failed"), false;
+    s.descriptorPool = Unique<VkDescriptorPool>(device, dp);
+
+    VkBufferCreateInfo bci{};
+
+    bci.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
+    bci.size = uboStride * kMaxDispatches;
+    bci.usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT;
+    VkBuffer buf = VK_NULL_HANDLE;
+    if (vkCreateBuffer(device, &bci, nullptr, &buf) != VK_SUCCESS)
+      return fail(error, "vkCreateBuffer failed"), false;
+    s.ubo = Unique<VkBuffer>(device, buf);
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(device, buf, &req);
+    VkMemoryAllocateInfo mai{};
+    mai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+    mai.allocationSize = req.size;
+    // Device-local when the GPU offers host-visible video memory (resizable BAR): every
+    // workgroup reads these, and reads over PCIe are slow.
+    mai.memoryTypeIndex = ctx.findMemoryType(
+        req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+        VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    VkDeviceMemory mem = VK_NULL_HANDLE;
+    if (mai.memoryTypeIndex == UINT32_MAX || vkAllocateMemory(device, &mai, nullptr, &mem) != VK_SUCCESS)
+      return fail(error, "no host-visible memory for uniforms"), false;
+    s.uboMemory = Unique<VkDeviceMemory>(device, mem);
+    vkBindBufferMemory(device, buf, mem, 0);
+    if (vkMapMemory(device, mem, 0, VK_WHOLE_SIZE, 0, &s.mapped) != VK_SUCCESS)
+      return fail(error, "vkMapMemory failed"), false;  // freed memory is implicitly unmapped
+    if (timestamps) {
+      VkQueryPoolCreateInfo qpci{};
+      qpci.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
+      qpci.queryType = VK_QUERY_TYPE_TIMESTAMP;
+      qpci.queryCount = kQueries;
+      VkQueryPool qp = VK_NULL_HANDLE;
+      if (vkCreateQueryPool(device, &qpci, nullptr, &qp) != VK_SUCCESS)
+        return fail(error, "vkCreateQueryPool failed"), false;
+      s.queries = Unique<VkQueryPool>(device, qp);
+    }
+  }
+  const VkImageUsageFlags dummyUsage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+  return createImage(dummy16, {1, 1}, VK_FORMAT_R16G16B16A16_SFLOAT, dummyUsage, error) &&
+         createImage(dummy8, {1, 1}, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_STORAGE_BIT, error);
+}
+
+VkImageView Filter::Impl::view(VkImage image, VkFormat format, uint32_t layer, VkImageAspectFlags aspect,
+                               std::string* error) {
+  const ViewKey key{image, format, layer, aspect};
+  if (auto it = views.find(key); it != views.end()) return it->second.get();
+  VkImageViewCreateInfo vci{};
+  vci.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO;
+  vci.image = image;
+  vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  vci.format = format;
+  vci.subresourceRange = {aspect, 0, 1, layer, 1};
+  VkImageView v = VK_NULL_HANDLE;
+  if (vkCreateImageView(device, &vci, nullptr, &v) != VK_SUCCESS) {
+    fail(error, "vkCreateImageView failed for an application image");
+    return VK_NULL_HANDLE;
+  }
+  views.emplace(key, Unique<VkImageView>(device, v));
+  return v;
+}
+
+void Filter::Impl::collect(Slot& s) {
+  if (!s.pending) return;
+  const VkFence fence = s.fence.get();
+  vkWaitForFences(device, 1, &fence, VK_TRUE, UINT64_MAX);
+  vkResetFences(device, 1, &fence);
+  s.pending = false;
+  if (!s.timed || !s.queries) return;
+  std::array<uint64_t, kQueries> ts{};
+  if (vkGetQueryPoolResults(device, s.queries.get(), 0, kQueries, sizeof(ts), ts.data(), sizeof(uint64_t),
+                            VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
+    return;
+  if (timings && timings->frameIndex > s.frameIndex) return;  // keep the newest
+  const double toMs = static_cast<double>(timestampPeriodNs) * 1e-6;
+  auto span = [&](int a, int b) { return ts[b] >= ts[a] ? static_cast<double>(ts[b] - ts[a]) * toMs : 0.0; };
+  PassTimings t;
+  t.temporalMs = span(0, 1);
+  t.stereoMs = span(1, 2);
+  t.otherMs = span(2, 3);
+  t.totalMs = span(0, 3);
+  t.frameIndex = s.frameIndex;
+  timings = t;
+}
+
+void Filter::Impl::waitAll() {
+  for (auto& s : slots) collect(s);
+}
+
+}  // namespace steadyxr::core

@@ -1,0 +1,64 @@
+// The GPU objects the filter owns: internal images, the per-frame slots, each eye's history.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include <vulkan/vulkan.h>
+
+#include "steadyxr/core/frame.h"
+#include "steadyxr/core/vk_handle.h"
+
+namespace steadyxr::core::detail {
+
+// Frames in flight: a slot's resources are reused kSlots frames later, after its fence.
+constexpr uint32_t kSlots = 3;
+// Dispatches per frame at most: two eyes times (first stage + stereo), with room to spare.
+constexpr uint32_t kMaxDispatches = 8;
+// Timestamps per frame: start, after the first stage, after stereo, end (PassTimings).
+constexpr uint32_t kQueries = 4;
+
+// The one descriptor set layout of every pass (common.glsl): 0-3 samplers (src0, src1, depth0,
+// depth1), 4-5 storage images (history out, output), 6 the uniforms, 7 a sampler (the app's
+// input of this eye, whose alpha every output carries).
+constexpr uint32_t kBindings = 8;
+constexpr VkDescriptorType descriptorType(uint32_t binding) {
+  return binding < 4 || binding == 7 ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+         : binding < 6               ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+                                     : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+}
+
+struct OwnedImage {
+  Unique<VkImage> image;
+  Unique<VkDeviceMemory> memory;
+  Unique<VkImageView> view;
+  VkExtent2D extent{};
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  bool initialised = false;  // transitioned from UNDEFINED to GENERAL
+};
+
+// What one frame in flight records into and reads its uniforms from.
+struct Slot {
+  Unique<VkCommandPool> pool;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  Unique<VkFence> fence;
+  Unique<VkDescriptorPool> descriptorPool;
+  Unique<VkBuffer> ubo;
+  Unique<VkDeviceMemory> uboMemory;
+  void* mapped = nullptr;
+  Unique<VkQueryPool> queries;
+  bool pending = false;
+  bool timed = false;
+  uint64_t frameIndex = 0;
+};
+
+struct EyeState {
+  std::array<OwnedImage, 2> history;  // ping-pong, RGBA16F, linear light
+  std::array<OwnedImage, 2> scratch;  // intermediates for outputs without storage: [kOut8], [kOut16]
+  bool valid = false;
+  Pose prevPose;
+  Fov prevFov;
+  VkExtent2D size{};
+};
+
+}  // namespace steadyxr::core::detail

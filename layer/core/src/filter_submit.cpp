@@ -1,0 +1,259 @@
+// Filter::Impl::submit: check the frame, prepare each eye's history, bind the images, record the
+// passes, submit; each step its own function, in that order.
+#include <array>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "filter_error.h"
+#include "filter_formats.h"
+#include "filter_geometry.h"
+#include "filter_impl.h"
+#include "steadyxr/core/view_math.h"
+
+namespace steadyxr::core {
+
+using detail::copyPass;
+using detail::EyeState;
+using detail::fail;
+using detail::finiteFov;
+using detail::finitePose;
+using detail::FramePlan;
+using detail::fxaaPass;
+using detail::isBgra;
+using detail::isDepthFormat;
+using detail::isOutputFormat;
+using detail::isSrgb;
+using detail::isUnorm8;
+using detail::kOut16;
+using detail::kOut8;
+using detail::OwnedImage;
+using detail::PassContext;
+using detail::PassDispatch;
+using detail::rectInside;
+using detail::sameExtent;
+using detail::sampledLayout;
+using detail::Slot;
+using detail::stereoPass;
+using detail::Target;
+using detail::temporalPass;
+using detail::validDepth;
+
+bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, std::string* error,
+                          VkSemaphore signal) {
+  pipelines.compiling = false;
+  applyPendingParams();
+  FramePlan plan;
+  if (!checkInputs(frame, output, plan, error)) return false;
+  if (!prepareEyes(frame, plan, error)) return false;
+  if (!bindTargets(frame, output, plan, error)) return false;
+
+  Slot& s = beginRecording();
+  std::vector<VkImageMemoryBarrier> backToFinal = transitionIn(s.cmd, frame, output, plan);
+  timestamp(s, 0);
+  bool ok = recordPasses(s, frame, output, plan, error);  // timestamps 1 and 2
+  transitionOut(s.cmd, output, plan, ok, std::move(backToFinal));
+  timestamp(s, 3);
+  if (pipelines.compiling) ok = false;  // no dispatch was recorded for the passes still compiling
+  if (!submitRecording(s, signal, error)) return false;
+
+  if (!ok) {
+    for (auto& eye : eyes) eye.valid = false;
+    if (error && error->empty()) *error = "recording the filter commands failed";
+    return false;
+  }
+  advanceEyes(frame, plan);
+  return true;
+}
+
+void Filter::Impl::applyPendingParams() {
+  if (!paramsChanged) return;
+  if (pendingParams.temporal != params.temporal) resetRequested = true;
+  params = pendingParams;
+  paramsChanged = false;
+}
+
+bool Filter::Impl::checkInputs(const StereoFrame& frame, const StereoOutput& output, FramePlan& plan,
+                               std::string* error) const {
+  const uint32_t n = frame.viewCount;
+  if (n < 1 || n > 2) return fail(error, "viewCount must be 1 or 2"), false;
+  for (uint32_t e = 0; e < n; ++e) {
+    const ViewFrame& v = frame.views[e];
+    const ImageRef& out = output.views[e];
+    if (!v.color.image || !out.image) return fail(error, "missing input or output image"), false;
+    if (!rectInside(v.color) || !rectInside(out)) return fail(error, "image rect outside the image"), false;
+    if (!sameExtent(v.color.rect.extent, out.rect.extent))
+      return fail(error, "output rect size differs from the input rect size"), false;
+    if (v.color.format == VK_FORMAT_UNDEFINED || isDepthFormat(v.color.format))
+      return fail(error, "unsupported input colour format"), false;
+    if (v.color.usage != 0 && !(v.color.usage & VK_IMAGE_USAGE_SAMPLED_BIT))
+      return fail(error, "input image lacks SAMPLED usage"), false;
+    if (!isOutputFormat(out.format)) return fail(error, "unsupported output format"), false;
+    if (v.depth) {
+      if (!v.depth->image.image || !validDepth(*v.depth) || !rectInside(v.depth->image) ||
+          !sameExtent(v.depth->image.rect.extent, v.color.rect.extent))
+        return fail(error, "invalid depth image (format, range or rect)"), false;
+      plan.hasDepth[e] = true;
+    }
+  }
+  const TemporalMethod method = params.temporal;
+  plan.viewCount = n;
+  plan.temporal = method == TemporalMethod::Taa || method == TemporalMethod::Hmtaa ||
+                  method == TemporalMethod::Vtaa || method == TemporalMethod::Hybrid ||
+                  method == TemporalMethod::Steady;
+  plan.fxaa = method == TemporalMethod::Fxaa;
+  plan.stereo = params.stereo && n == 2;
+  plan.firstStage = plan.temporal || plan.fxaa || !plan.stereo;  // `none` + stereo reads the inputs directly
+  return true;
+}
+
+bool Filter::Impl::prepareEyes(const StereoFrame& frame, FramePlan& plan, std::string* error) {
+  const uint32_t n = plan.viewCount;
+  // Internal images follow the rect size; a size change drops the history.
+  for (uint32_t e = 0; e < n; ++e) {
+    EyeState& eye = eyes[e];
+    const VkExtent2D size = frame.views[e].color.rect.extent;
+    if (!eye.history[0].image || !sameExtent(eye.size, size)) {
+      waitAll();
+      const VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+      for (auto& h : eye.history) {
+        if (!createImage(h, size, VK_FORMAT_R16G16B16A16_SFLOAT, usage, error)) return false;
+      }
+      for (auto& sc : eye.scratch) sc = OwnedImage{};
+      eye.size = size;
+      eye.valid = false;
+    }
+  }
+  if (frame.reset || resetRequested) {
+    for (auto& eye : eyes) eye.valid = false;
+    resetRequested = false;
+  }
+  // A history is reprojected only from a finite pose, across a small enough head move.
+  for (uint32_t e = 0; e < n; ++e) {
+    const ViewFrame& v = frame.views[e];
+    EyeState& eye = eyes[e];
+    plan.poseOk[e] = finitePose(v.pose) && finiteFov(v.fov);
+    if (!plan.poseOk[e]) {
+      eye.valid = false;
+    } else if (eye.valid) {
+      const float angle = angleBetweenDeg(eye.prevPose.orientation, v.pose.orientation);
+      const float dist = glm::length(eye.prevPose.position - v.pose.position);
+      if (!(angle <= params.resetAngleDeg) || !(dist <= params.resetTranslationM)) eye.valid = false;
+    }
+  }
+  return true;
+}
+
+bool Filter::Impl::bindTargets(const StereoFrame& frame, const StereoOutput& output, FramePlan& plan,
+                               std::string* error) {
+  const uint32_t n = plan.viewCount;
+  // Output targets: direct storage writes where possible, else an intermediate and a copy.
+  for (uint32_t e = 0; e < n; ++e) {
+    const ImageRef& out = output.views[e];
+    Target& t = plan.targets[e];
+    const bool is16 = out.format == VK_FORMAT_R16G16B16A16_SFLOAT;
+    const VkFormat viewFormat = is16 ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R8G8B8A8_UNORM;
+    t.fmt = is16 ? kOut16 : kOut8;
+    t.srgb = isSrgb(out.format);
+    t.swap = isBgra(out.format);
+    VkFormatProperties fp;
+    vkGetPhysicalDeviceFormatProperties(ctx.physicalDevice(), viewFormat, &fp);
+    const bool storageOk = (fp.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT) != 0;
+    if ((out.usage & VK_IMAGE_USAGE_STORAGE_BIT) && storageOk &&
+        (out.format == viewFormat || out.mutableFormat)) {
+      t.view = view(out.image, viewFormat, out.arrayLayer, VK_IMAGE_ASPECT_COLOR_BIT, error);
+      if (!t.view) return false;
+    } else if (out.usage & VK_IMAGE_USAGE_TRANSFER_DST_BIT) {
+      OwnedImage& sc = eyes[e].scratch[t.fmt];
+      if (!sc.image) {
+        const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+        if (!createImage(sc, out.rect.extent, viewFormat, usage, error)) return false;
+      }
+      t.scratch = &sc;
+      t.view = sc.view.get();
+    } else {
+      return fail(error,
+                  "output image needs STORAGE (storage-capable or mutable format) or TRANSFER_DST usage"),
+             false;
+    }
+  }
+  // The app's images as the passes sample them.
+  for (uint32_t e = 0; e < n; ++e) {
+    const ImageRef& in = frame.views[e].color;
+    plan.inputs[e] = {view(in.image, in.format, in.arrayLayer, VK_IMAGE_ASPECT_COLOR_BIT, error),
+                      sampledLayout(in.layout, false), isUnorm8(in.format)};
+    if (!plan.inputs[e].view) return false;
+    if (plan.hasDepth[e]) {
+      const ImageRef& d = frame.views[e].depth->image;
+      plan.depths[e] = {view(d.image, d.format, d.arrayLayer, VK_IMAGE_ASPECT_DEPTH_BIT, error),
+                        sampledLayout(d.layout, true)};
+      if (!plan.depths[e].view) return false;
+    }
+  }
+  return true;
+}
+
+bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoOutput& output,
+                                const FramePlan& plan, std::string* error) {
+  Recording rec{s};
+  const PassContext c{frame, output, params, plan, eyes, historyIndex};
+  bool ok = true;
+  if (plan.firstStage) {
+    for (uint32_t e = 0; e < plan.viewCount && ok; ++e) {
+      const PassDispatch d = plan.temporal ? temporalPass(c, e) : plan.fxaa ? fxaaPass(c, e) : copyPass(c, e);
+      ok = record(rec, d, error);
+    }
+  }
+  if (ok && plan.stereo && plan.firstStage) {  // the first stage's history writes before stereo reads them
+    VkMemoryBarrier m{};
+    m.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    m.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    m.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+    vkCmdPipelineBarrier(s.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0,
+                         1, &m, 0, nullptr, 0, nullptr);
+  }
+  timestamp(s, 1);
+  if (ok && plan.stereo) {
+    for (uint32_t e = 0; e < 2 && ok; ++e) ok = record(rec, stereoPass(c, e), error);
+  }
+  timestamp(s, 2);
+  return ok;
+}
+
+bool Filter::Impl::submitRecording(Slot& s, VkSemaphore signal, std::string* error) {
+  if (vkEndCommandBuffer(s.cmd) != VK_SUCCESS) {
+    fail(error, "vkEndCommandBuffer failed");
+    return false;  // nothing was submitted; the slot stays free
+  }
+  // Even a failed recording is submitted when it holds the layout transitions, so the images end in
+  // finalLayout; a failed dispatch only leaves the output unwritten.
+  VkSubmitInfo si{};
+  si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &s.cmd;
+  if (signal) {
+    si.signalSemaphoreCount = 1;
+    si.pSignalSemaphores = &signal;
+  }
+  if (VkResult r = vkQueueSubmit(ctx.queue(), 1, &si, s.fence.get()); r != VK_SUCCESS) {
+    return fail(error, "vkQueueSubmit failed: " + std::to_string(r)), false;
+  }
+  s.pending = true;
+  s.timed = static_cast<bool>(s.queries);
+  s.frameIndex = frameCounter++;
+  return true;
+}
+
+void Filter::Impl::advanceEyes(const StereoFrame& frame, const FramePlan& plan) {
+  for (uint32_t e = 0; e < plan.viewCount; ++e) {
+    EyeState& eye = eyes[e];
+    eye.valid = plan.temporal && plan.poseOk[e];
+    if (plan.poseOk[e]) {
+      eye.prevPose = frame.views[e].pose;
+      eye.prevFov = frame.views[e].fov;
+    }
+  }
+  historyIndex ^= 1u;
+}
+
+}  // namespace steadyxr::core

@@ -1,0 +1,112 @@
+// Pipeline variants that must give the same images (4x4 blocks and one pixel per invocation,
+// the jittered fetch at zero jitter) and the background compile.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+#include "filter_test_rig.h"
+
+using namespace steadyxr;
+using namespace steadyxr::core;
+using namespace steadyxr::test;
+
+// Params::invocationBlock: a CPU device runs every pass but fxaa 4x4 pixels per invocation, a GPU
+// one pixel. Both layouts must give the same images, on sizes that do not divide by the block (and
+// one smaller than a block), on the copy and every temporal mode, with depth (stereo reads both
+// eyes' depth).
+TEST_F(CoreTest, OnePixelAndBlockInvocationsAgree) {
+  for (const auto& [W, H] : {std::pair<uint32_t, uint32_t>{45, 37}, {3, 2}})
+    for (const char* method : {"none", "taa+stereo", "hmtaa", "vtaa", "hybrid+stereo"}) {
+      std::array<std::array<HostImage, 2>, 2> outs;
+      for (int b = 0; b < 2; ++b) {
+        Params base;
+        base.invocationBlock = b == 0 ? InvocationBlock::OnePixel : InvocationBlock::FourByFour;
+        auto f = makeFilter(method, base);
+        ASSERT_TRUE(f);
+        Rig rig(W, H);
+        for (int i = 0; i < 3; ++i) {
+          Frame fr;
+          const float yaw = 0.6f * float(i);
+          fr.views = {eye(yaw, 0.2f * float(i), {-0.032f, 0, 0}), eye(yaw, 0.2f * float(i), {0.032f, 0, 0})};
+          fr.color = {pattern(W, H, 40u + 2u * uint32_t(i), 0.1f),
+                      pattern(W, H, 41u + 2u * uint32_t(i), 0.1f)};
+          for (int e = 0; e < 2; ++e) {
+            fr.depth[e] = HostImage(W, H);
+            for (uint32_t y = 0; y < H; ++y)
+              for (uint32_t x = 0; x < W; ++x) fr.depth[e].at(x, y) = glm::vec4(x < W / 2 ? 0.9f : 0.99f);
+          }
+          fr.headSpeed = 6.0f;
+          outs[size_t(b)] = rig.run(*f, fr);
+        }
+      }
+      for (int e = 0; e < 2; ++e) {
+        const Diff d = compare(outs[0][size_t(e)], outs[1][size_t(e)]);
+        EXPECT_LE(d.maxAbs, 1e-6f) << method << " " << W << "x" << H << " eye " << e;  // same arithmetic
+      }
+    }
+}
+
+// Params::jitteredInput: the un-jittering fetch at a jitter of 0 reads the texel itself, so the
+// layer can use that one pipeline from the first frame on.
+TEST_F(CoreTest, JitteredInputWithZeroJitterMatchesPlainFetch) {
+  const uint32_t W = 36, H = 28;
+  Params jittered;
+  jittered.jitteredInput = true;
+  auto plain = makeFilter("hybrid+stereo");
+  auto withJitterPath = makeFilter("hybrid+stereo", jittered);
+  ASSERT_TRUE(plain && withJitterPath);
+  Rig rigA(W, H), rigB(W, H);
+  for (int i = 0; i < 3; ++i) {
+    Frame fr;
+    fr.views = {eye(0.4f * float(i), 0.0f, {-0.032f, 0, 0}), eye(0.4f * float(i), 0.0f, {0.032f, 0, 0})};
+    fr.color = {pattern(W, H, 70u + uint32_t(i), 0.1f), pattern(W, H, 80u + uint32_t(i), 0.1f)};
+    fr.headSpeed = 5.0f;
+    const auto a = rigA.run(*plain, fr);
+    const auto b = rigB.run(*withJitterPath, fr);
+    for (int e = 0; e < 2; ++e) {
+      const Diff d = compare(a[size_t(e)], b[size_t(e)]);
+      // llvmpipe's bilinear path rounds differently from texelFetch: 1-2 half-float ulps, well
+      // below an 8-bit display step (3.9e-3).
+      EXPECT_LE(d.maxAbs, 2e-3f) << "frame " << i << " eye " << e;
+      EXPECT_LE(d.meanAbs, 2e-4f) << "frame " << i << " eye " << e;
+    }
+  }
+}
+
+// FilterOptions::compileInBackground: frames are refused (compiling() true, the caller passes them
+// through) until the pipelines are ready, and never stall for the compile; the first filtered
+// frame then matches a synchronously compiled filter's first frame.
+TEST_F(CoreTest, BackgroundCompileRefusesFramesUntilReady) {
+  const uint32_t W = 40, H = 32;
+  const Params p = *applyMethodName("default");
+  std::string err;
+  FilterOptions background;
+  background.compileInBackground = true;
+  auto f = Filter::create(*gCtx, p, &err, background);
+  ASSERT_TRUE(f) << err;
+  auto reference = Filter::create(*gCtx, p, &err);
+  ASSERT_TRUE(reference) << err;
+  Rig rig(W, H), referenceRig(W, H);
+  Frame fr;
+  fr.views = {eye(0.3f, 0.1f, {-0.032f, 0, 0}), eye(0.3f, 0.1f, {0.032f, 0, 0})};
+  fr.color = {pattern(W, H, 61, 0.05f), pattern(W, H, 62, 0.05f)};
+  fr.headSpeed = 3.0f;
+
+  bool submitted = true;
+  rig.run(*f, fr, 2, &submitted);
+  EXPECT_FALSE(submitted);
+  EXPECT_TRUE(f->compiling());
+  std::array<HostImage, 2> out;
+  for (int i = 0; i < 6000 && !submitted; ++i) {  // a minute at most
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    out = rig.run(*f, fr, 2, &submitted);
+  }
+  ASSERT_TRUE(submitted);
+  EXPECT_FALSE(f->compiling());
+  const auto want = referenceRig.run(*reference, fr);
+  for (int e = 0; e < 2; ++e) {
+    const Diff d = compare(out[size_t(e)], want[size_t(e)]);
+    EXPECT_LE(d.maxAbs, 1e-6f) << "eye " << e;
+  }
+}

@@ -1,0 +1,328 @@
+// The filter's passes on real Vulkan (lavapipe, validation on) against their independent CPU
+// references (reference.h, written from the seeds): temporal, steady, fxaa, stereo.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/packing.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "filter_test_rig.h"
+#include "reference.h"
+
+using namespace steadyxr;
+using namespace steadyxr::core;
+using namespace steadyxr::test;
+
+class TemporalReference : public CoreTest, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(TemporalReference, MatchesCpuReference) {
+  const std::string method = GetParam();
+  const uint32_t W = 64, H = 64;
+  Params p = *applyMethodName(method);
+  if (method == "hmtaa2") {
+    p = *applyMethodName("hmtaa");
+    p.sampleCount = 2;
+  }
+  if (method == "hybrid-catmull" || method == "taa-catmull") {
+    p = *applyMethodName(method.substr(0, method.find('-')));
+    p.historyFilter = HistoryFilter::CatmullRom;
+  }
+  const bool withDepth = method == "taa-depth";
+  if (withDepth) p = *applyMethodName("taa");
+  std::string err;
+  auto f = Filter::create(*gCtx, p, &err);
+  ASSERT_TRUE(f) << err;
+  Rig rig(W, H);
+  Frame f1, f2;
+  f1.color = {pattern(W, H, 7), pattern(W, H, 8)};
+  f1.views = {eye(0.0f, 0.0f), eye(0.0f, 0.0f, {0.064f, 0, 0})};
+  f2.color = {pattern(W, H, 9, 0.05f), pattern(W, H, 10, 0.05f)};
+  f2.views = {eye(1.3f, -0.7f, {0.01f, 0.0f, 0.02f}), eye(1.3f, -0.7f, {0.074f, 0.0f, 0.02f})};
+  f2.headSpeed = 6.0f;
+  if (withDepth) {
+    for (auto* fr : {&f1, &f2})
+      for (int e = 0; e < 2; ++e) {
+        fr->depth[e] = HostImage(W, H);
+        for (uint32_t y = 0; y < H; ++y)
+          for (uint32_t x = 0; x < W; ++x) {
+            const float z = x < W / 2 ? 0.5f : 3.0f;  // metres: a near half and a far half
+            fr->depth[e].at(x, y).r = (1.0f / z - 1.0f / 0.1f) / (1.0f / 100.0f - 1.0f / 0.1f);
+          }
+      }
+  }
+  const auto out1 = rig.run(*f, f1);
+  for (int e = 0; e < 2; ++e) EXPECT_LE(compare(out1[e], f1.color[e]).maxAbs, 1e-3f) << "first frame = input";
+  const auto out2 = rig.run(*f, f2);
+  for (int e = 0; e < 2; ++e) {
+    const auto method_ = p.temporal;
+    const HostImage want =
+        test::temporalRef(method_, p, toHalf(f2.color[e]), toHalf(f1.color[e]), true, f1.views[e],
+                          f2.views[e], f2.headSpeed, withDepth ? &f2.depth[e] : nullptr, 0.1f, 100.0f);
+    const Diff d = compare(out2[e], want);
+    // Tolerance: GPU bilinear weights have 8 sub-texel bits (<= 1/256 of a neighbour difference),
+    // RGBA16F storage (~1e-3). Few pixels sit exactly on a clip/fallback decision boundary.
+    EXPECT_LE(d.meanAbs, 2e-3f) << method << " eye " << e;
+    EXPECT_LE(d.maxAbs, 0.05f) << method << " eye " << e;
+    // The filter did something: the output is not just the current frame.
+    EXPECT_GT(compare(out2[e], f2.color[e]).meanAbs, 5e-3f) << method;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Passes, TemporalReference,
+                         ::testing::Values("taa", "hmtaa", "hmtaa2", "vtaa", "hybrid", "taa-depth",
+                                           "hybrid-catmull", "taa-catmull"),
+                         [](const auto& pinfo) {
+                           std::string s = pinfo.param;
+                           for (auto& c : s)
+                             if (c == '-') c = '_';
+                           return s;
+                         });
+
+// The steady method against its CPU reference, chained over four frames: the sample count
+// builds up in the history's alpha, a patch that moves makes clips lower it, the head rotates and
+// translates by sub-pixel amounts, and the frames carry noise.
+class SteadyReference : public CoreTest, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(SteadyReference, MatchesCpuReference) {
+  const std::string variant = GetParam();
+  const uint32_t W = 64, H = 64;
+  Params p = *applyMethodName("steady");
+  if (variant == "catmull") p.historyFilter = HistoryFilter::CatmullRom;
+  if (variant == "interpolated") p.steadyInterpolated = true;
+  if (variant == "rejectnoblur") {
+    p.steadyClipRejects = true;
+    p.steadyBlurBudgetPx2 = 0.0f;
+  }
+  if (variant == "constant") p.steadyConfidence = false;
+  if (variant == "wideclip") {  // steady's clip box is its own, not taa's
+    p.steadyClipGamma = 2.0f;
+    p.taaClipGamma = 0.5f;
+  }
+  const bool withDepth = variant == "depth";
+  auto f = makeFilter("steady", p);
+  ASSERT_TRUE(f);
+  Rig rig(W, H);
+  std::array<HostImage, 2> hist;
+  std::array<RefView, 2> prev;
+  for (int k = 0; k < 4; ++k) {
+    Frame fr;
+    fr.color = {pattern(W, H, 20 + k, 0.05f), pattern(W, H, 30 + k, 0.05f)};
+    for (auto& img : fr.color)  // a patch moving 3 px a frame over the static pattern
+      for (uint32_t y = 40; y < 50; ++y)
+        for (uint32_t x = 8u + 3u * uint32_t(k); x < 18u + 3u * uint32_t(k); ++x)
+          img.at(x, y) = glm::vec4(1.0f, 0.2f, 0.6f, 1.0f);
+    const float fk = float(k);
+    fr.views = {eye(0.35f * fk, -0.2f * fk, {0.004f * fk, 0, 0.002f * fk}),
+                eye(0.35f * fk, -0.2f * fk, {0.064f + 0.004f * fk, 0, 0.002f * fk})};
+    for (int e = 0; e < 2 && withDepth; ++e) {
+      fr.depth[e] = HostImage(W, H);
+      for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+          const float z = x < W / 2 ? 0.5f : 3.0f;  // metres: a near half and a far half
+          fr.depth[e].at(x, y).r = (1.0f / z - 1.0f / 0.1f) / (1.0f / 100.0f - 1.0f / 0.1f);
+        }
+    }
+    const auto out = rig.run(*f, fr);
+    for (int e = 0; e < 2; ++e) {
+      const HostImage want =
+          toHalf(test::steadyRef(p, toHalf(fr.color[e]), hist[e], k > 0, prev[e], fr.views[e],
+                                 withDepth ? &fr.depth[e] : nullptr, 0.1f, 100.0f));
+      const Diff d = compare(out[e], want);
+      // Tolerance as in TemporalReference (8 sub-texel bits of GPU bilinear weights, half
+      // precision), over a chain of frames; few pixels sit on a clip decision boundary.
+      EXPECT_LE(d.meanAbs, 2e-3f) << variant << " frame " << k << " eye " << e;
+      EXPECT_LE(d.maxAbs, 0.05f) << variant << " frame " << k << " eye " << e;
+      if (k > 0) {
+        EXPECT_GT(compare(out[e], fr.color[e]).meanAbs, 5e-3f) << variant << ": the history is used";
+      }
+      hist[e] = want;
+      prev[e] = fr.views[e];
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
+                         ::testing::Values("default", "catmull", "interpolated", "rejectnoblur", "constant",
+                                           "depth", "wideclip"));
+
+namespace {
+// Pixels of `a` farther than `tolerance` from `b` in any channel.
+int pixelsOff(const HostImage& a, const HostImage& b, float tolerance) {
+  int n = 0;
+  for (size_t i = 0; i < a.px.size(); ++i)
+    n += glm::any(glm::greaterThan(glm::abs(glm::vec3(a.px[i]) - glm::vec3(b.px[i])), glm::vec3(tolerance)));
+  return n;
+}
+
+float rmse(const HostImage& a, const HostImage& b) {
+  double sum = 0.0;
+  for (size_t i = 0; i < a.px.size(); ++i) {
+    const glm::vec3 d = glm::vec3(a.px[i]) - glm::vec3(b.px[i]);
+    sum += glm::dot(d, d);
+  }
+  return float(std::sqrt(sum / (3.0 * double(a.px.size()))));
+}
+
+// A straight step edge through the image centre at `slopeDeg` from horizontal (dark below-left,
+// bright above-right), sampled at pixel centres (one sample per pixel, as a rasteriser without
+// MSAA draws it) or as the 16x16 box average of each pixel (the ground truth).
+HostImage steppedEdge(uint32_t w, uint32_t h, double slopeDeg, int samplesPerAxis) {
+  const glm::dvec2 centre(w / 2.0 + 0.31, h / 2.0 + 0.17);  // off the pixel grid's symmetry
+  const glm::dvec2 normal(-std::sin(slopeDeg * kDeg), std::cos(slopeDeg * kDeg));
+  const glm::vec3 dark(0.05f, 0.08f, 0.1f), bright(0.9f, 0.7f, 0.5f);
+  HostImage img(w, h);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      int inside = 0;
+      for (int j = 0; j < samplesPerAxis; ++j)
+        for (int i = 0; i < samplesPerAxis; ++i) {
+          const glm::dvec2 q(x + (i + 0.5) / samplesPerAxis, y + (j + 0.5) / samplesPerAxis);
+          inside += glm::dot(q - centre, normal) < 0.0;  // image y grows downwards
+        }
+      const float f = float(inside) / float(samplesPerAxis * samplesPerAxis);
+      img.at(x, y) = glm::vec4(glm::mix(dark, bright, f), 1.0f);
+    }
+  return img;
+}
+}  // namespace
+
+TEST_F(CoreTest, FxaaMatchesCpuReference) {
+  const uint32_t W = 64, H = 64;
+  HostImage img(W, H);
+  for (uint32_t y = 0; y < H; ++y)
+    for (uint32_t x = 0; x < W; ++x) {
+      // hard-edged shapes: a tilted edge, a circle, thin lines
+      const bool a = float(y) > 0.35f * float(x) + 10.0f;
+      const bool b = (x - 40) * (x - 40) + (y - 20) * (y - 20) < 120;
+      const bool c = (x + 2 * y) % 11 == 0;
+      // A little per-pixel texture: without it the repeated exact values make FXAA's comparisons
+      // exact ties (e.g. edgeHorz == edgeVert beside the thin lines), which device and CPU
+      // arithmetic may break either way.
+      const float t = 0.03f * float((x * 7919u + y * 104729u) % 61u) / 60.0f;
+      img.at(x, y) =
+          glm::vec4((a ? 0.9f : 0.1f) - t, (b ? 0.8f : 0.2f) + t, (c ? 1.0f : 0.0f) + 0.5f * t, 1.0f);
+    }
+  auto f = makeFilter("fxaa");
+  Rig rig(W, H);
+  Frame fr;
+  fr.color = {img, img};
+  fr.views = {eye(0, 0), eye(0, 0)};
+  const auto out = rig.run(*f, fr);
+  const HostImage want = test::fxaaRef(toHalf(img));
+  // Pixel by pixel: within the half-float output and the sampler's 8-bit bilinear weights
+  // (1/256 of a step of at most 1), everywhere but a handful of pixels where a comparison of
+  // equal float values (a luma tie) may go either way on the device.
+  const int changed = pixelsOff(want, toHalf(img), 0.01f);
+  const int off = pixelsOff(out[0], want, 0.01f);
+  std::printf("fxaa vs the CPU reference: %d of %d pixels off by more than 0.01 (%d pixels changed)\n", off,
+              int(W * H), changed);
+  EXPECT_GT(changed, 300);  // the reference itself smoothed the edges
+  EXPECT_LE(off, 4);
+  EXPECT_LE(compare(out[0], want).meanAbs, 5e-4f);
+
+  // A long, nearly horizontal edge (38 px steps): the search runs to its last, unsampled step.
+  const HostImage longEdge = steppedEdge(W, H, 1.5, 1);
+  fr.color = {longEdge, longEdge};
+  const auto outLong = rig.run(*f, fr);
+  const HostImage wantLong = test::fxaaRef(toHalf(longEdge));
+  EXPECT_GT(pixelsOff(wantLong, toHalf(longEdge), 0.01f), 60);
+  EXPECT_LE(pixelsOff(outLong[0], wantLong, 0.01f), 4);
+  EXPECT_LE(compare(outLong[0], wantLong).meanAbs, 5e-4f);
+}
+
+TEST_F(CoreTest, FxaaLowersTheErrorOfASteppedEdgeAtEverySlope) {
+  // FXAA against a supersampled edge: it must move every edge's pixels towards their coverage,
+  // whatever the edge's direction (blending along the edge instead of across leaves the error).
+  const uint32_t W = 64, H = 64;
+  auto f = makeFilter("fxaa");
+  Rig rig(W, H);
+  for (double slope : {5.0, 20.0, 45.0, 70.0, 88.0}) {
+    const HostImage aliased = steppedEdge(W, H, slope, 1), truth = steppedEdge(W, H, slope, 16);
+    Frame fr;
+    fr.color = {aliased, aliased};
+    fr.views = {eye(0, 0), eye(0, 0)};
+    const auto out = rig.run(*f, fr);
+    const float before = rmse(toHalf(aliased), truth), after = rmse(out[0], truth);
+    const float cpu = rmse(test::fxaaRef(toHalf(aliased)), truth);
+    std::printf(
+        "step edge at %4.1f deg: RMSE vs 16x16 supersampled %.4f at 1 spp, %.4f after fxaa (CPU "
+        "reference %.4f)\n",
+        slope, before, after, cpu);
+    // Near-horizontal and near-vertical edges are FXAA's best case (long spans: the end-of-edge
+    // search gives each pixel its coverage); at 45 deg the steps are single pixels.
+    const float bound = slope < 10.0 || slope > 80.0 ? 0.5f : 0.85f;
+    EXPECT_LT(after, bound * before) << slope;
+    EXPECT_LT(cpu, bound * before) << slope;
+  }
+}
+
+class StereoReference : public CoreTest, public ::testing::WithParamInterface<bool> {};
+
+TEST_P(StereoReference, MatchesCpuReference) {
+  const bool withDepth = GetParam();
+  const uint32_t W = 64, H = 48;
+  Params base;
+  base.stereoBetaMin = 0.5f;  // a visible blend; the default (0.9) takes at most 10 % of the other eye
+  auto f = makeFilter("stereo", base);
+  Rig rig(W, H);
+  Frame fr;
+  fr.views = {eye(0.5f, 0.0f, {-0.032f, 0, 0}), eye(0.5f, 0.0f, {0.032f, 0, 0})};
+  fr.color = {pattern(W, H, 11, 0.08f), pattern(W, H, 12, 0.08f)};
+  if (withDepth) {
+    for (int e = 0; e < 2; ++e) {
+      fr.depth[e] = HostImage(W, H);
+      for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+          const float z = (x > 20 && x < 36 && y > 10 && y < 30) ? 0.4f : 2.0f;  // a box before a wall
+          fr.depth[e].at(x, y).r = (1.0f / z - 1.0f / 0.1f) / (1.0f / 100.0f - 1.0f / 0.1f);
+        }
+    }
+  }
+  const auto out = rig.run(*f, fr);
+  const Params p = *applyMethodName("stereo", base);
+  for (int e = 0; e < 2; ++e) {
+    const int o = 1 - e;
+    const HostImage want =
+        test::stereoRef(p, toHalf(fr.color[e]), toHalf(fr.color[o]), fr.views[e], fr.views[o],
+                        withDepth ? &fr.depth[e] : nullptr, withDepth ? &fr.depth[o] : nullptr, 0.1f, 100.0f);
+    const Diff d = compare(out[e], want);
+    EXPECT_LE(d.meanAbs, 3e-3f) << "eye " << e;
+    EXPECT_LE(d.maxAbs, 0.08f) << "eye " << e;
+    EXPECT_GT(compare(out[e], fr.color[e]).meanAbs, 5e-3f);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Depth, StereoReference, ::testing::Bool());
+
+// Stereo after a temporal method (seed 002 §5.2: a post pass on both eyes' filtered frames)
+// agrees with the stereo reference applied to the temporal result of this frame.
+TEST_F(CoreTest, SeparateStereoPassAfterTemporalMatchesReference) {
+  const uint32_t W = 48, H = 40;
+  const Params p = *applyMethodName("hybrid+stereo");
+  std::string err;
+  auto f = Filter::create(*gCtx, p, &err);
+  ASSERT_TRUE(f) << err;
+  Rig rig(W, H);
+  Frame f1, f2;
+  f1.views = {eye(0.0f, 0.0f, {-0.032f, 0, 0}), eye(0.0f, 0.0f, {0.032f, 0, 0})};
+  f1.color = {pattern(W, H, 21, 0.08f), pattern(W, H, 22, 0.08f)};
+  f2.views = {eye(0.8f, 0.3f, {-0.032f, 0, 0}), eye(0.8f, 0.3f, {0.032f, 0, 0})};
+  f2.color = {pattern(W, H, 23, 0.08f), pattern(W, H, 24, 0.08f)};
+  f2.headSpeed = 4.0f;
+  rig.run(*f, f1);
+  const auto out2 = rig.run(*f, f2);
+  std::array<HostImage, 2> temporal;
+  for (int e = 0; e < 2; ++e)
+    temporal[e] = toHalf(test::temporalRef(p.temporal, p, toHalf(f2.color[e]), toHalf(f1.color[e]), true,
+                                           f1.views[e], f2.views[e], f2.headSpeed));
+  for (int e = 0; e < 2; ++e) {
+    const HostImage want = test::stereoRef(p, temporal[e], temporal[1 - e], f2.views[e], f2.views[1 - e],
+                                           nullptr, nullptr, 0.1f, 100.0f);
+    const Diff d = compare(out2[e], want);
+    EXPECT_LE(d.meanAbs, 3e-3f) << "eye " << e;
+    EXPECT_LE(d.maxAbs, 0.08f) << "eye " << e;
+  }
+}
