@@ -42,7 +42,7 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        (static scenes: exact reprojection, 1/N over 16 frames, on the CPU);
                        sweeps as <m>@key=value[@key=value] with keys
                        hmax,wmin,wlb,amin,alpha,gamma,beta,d,catmull and steady's
-                       floor,conf,reject,clip,blur,footprint,near,interp (default: all +
+                       floor,conf,reject,clip,blur,footprint,fpenc,near,interp (default: all +
                        sweeps)
   --corpus             every motion preset over the corpus pictures and scenes, translating
                        motions with and without depth; one table per motion and picture

@@ -109,6 +109,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->sampleD[0] = value;
     else if (key == "catmull")
       params->historyFilter = value != 0.0f ? core::HistoryFilter::CatmullRom : core::HistoryFilter::Bilinear;
+    else if (key == "fpenc")
+      params->steadyFootprintEncoded = value != 0.0f;
     else if (key == "floor")  // steady's ablation switches and constants (core::Params)
       params->steadyAlphaFloor = value;
     else if (key == "conf")
@@ -128,7 +130,7 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
     else {
       *error = "unknown parameter '" + key +
                "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d, catmull, floor, conf, reject, clip, blur, "
-               "footprint, near, "
+               "footprint, fpenc, near, "
                "interp)";
       return false;
     }

@@ -83,6 +83,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float steadyClipRejects;       // steady: 1 = a clip by t sigma divides the count by t^2 (mix weight)
   float steadyInvBlurBudgetPx2;  // steady: 1 / blur budget (0 = no bound)
   float steadyFootprint;         // steady: k of the [k, 1 - 2k, k]^2 footprint filter (0 = off)
+  float steadyFootprintEncoded;  // steady: 1 = that filter on square roots, 0 = in linear light
 } P;
 
 vec3 sanitize(vec3 c) {

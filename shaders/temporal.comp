@@ -94,6 +94,14 @@ void processPixel(ivec2 p, ivec2 o) {
       const float k = mode == kHybrid ? 1.0 / 16.0 : P.steadyFootprint;
       vec3 edges = blockAt(o, -1, 0) + blockAt(o, 1, 0) + blockAt(o, 0, -1) + blockAt(o, 0, 1);
       fc = (1.0 - 2.0 * k) * (1.0 - 2.0 * k) * cur + k * (1.0 - 2.0 * k) * edges + k * k * (s1 - cur - edges);
+      if (mode == kSteady) {  // the same filter on square roots (Params::steadyFootprintEncoded)
+        vec3 e4 = sqrt(blockAt(o, -1, 0)) + sqrt(blockAt(o, 1, 0)) +
+                  sqrt(blockAt(o, 0, -1)) + sqrt(blockAt(o, 0, 1));
+        vec3 c4 = sqrt(blockAt(o, -1, -1)) + sqrt(blockAt(o, 1, -1)) +
+                  sqrt(blockAt(o, -1, 1)) + sqrt(blockAt(o, 1, 1));
+        vec3 g = (1.0 - 2.0 * k) * (1.0 - 2.0 * k) * sqrt(cur) + k * (1.0 - 2.0 * k) * e4 + k * k * c4;
+        fc = P.steadyFootprintEncoded > 0.5 ? g * g : fc;
+      }
     }
   }
 

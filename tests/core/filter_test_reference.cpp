@@ -91,6 +91,7 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   const uint32_t W = 64, H = 64;
   Params p = *applyMethodName("steady");
   if (variant == "catmull") p.historyFilter = HistoryFilter::CatmullRom;
+  if (variant == "linearfootprint") p.steadyFootprintEncoded = false;
   if (variant == "interpolated") p.steadyInterpolated = true;
   if (variant == "rejectnoblur") {
     p.steadyClipRejects = true;
@@ -145,8 +146,8 @@ TEST_P(SteadyReference, MatchesCpuReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
-                         ::testing::Values("default", "catmull", "interpolated", "rejectnoblur", "constant",
-                                           "depth", "wideclip"));
+                         ::testing::Values("default", "catmull", "linearfootprint", "interpolated",
+                                           "rejectnoblur", "constant", "depth", "wideclip"));
 
 namespace {
 // Pixels of `a` farther than `tolerance` from `b` in any channel.

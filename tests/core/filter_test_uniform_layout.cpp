@@ -116,10 +116,11 @@ const std::vector<Member> kPassUniforms = {
     HOST_MEMBER(PassUniforms, steadyClipRejects),
     HOST_MEMBER(PassUniforms, steadyInvBlurBudgetPx2),
     HOST_MEMBER(PassUniforms, steadyFootprint),
+    HOST_MEMBER(PassUniforms, steadyFootprintEncoded),
 };
 // The table lists every host member: the last one (a float) ends the struct, up to its 16-byte
 // alignment.
-static_assert(offsetof(PassUniforms, steadyFootprint) + sizeof(float) + 16 > sizeof(PassUniforms));
+static_assert(offsetof(PassUniforms, steadyFootprintEncoded) + sizeof(float) + 16 > sizeof(PassUniforms));
 
 const std::vector<Member> kDepthToInvZ = {
     HOST_MEMBER(DepthToInvZ, invNear),

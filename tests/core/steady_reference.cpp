@@ -66,13 +66,17 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
         }
       const vec3 var = glm::max(meanSq - mean * mean, vec3(0));
       // The current frame's estimate of the pixel's area average: the samples reconstructed with
-      // a tent of footprint weight k per side, integrated over the pixel: weights [k, 1-2k, k].
+      // a tent of footprint weight k per side, integrated over the pixel: weights [k, 1-2k, k],
+      // applied to the display-like encoding v^(1/2) of the samples (or to v itself), decoded.
       const float k = p.steadyFootprint;
       const float w1d[3] = {k, 1.0f - 2.0f * k, k};
+      const float gamma = p.steadyFootprintEncoded ? 2.0f : 1.0f;
       vec3 area(0);
       for (int j = -1; j <= 1; ++j)
         for (int i = -1; i <= 1; ++i)
-          area += w1d[i + 1] * w1d[j + 1] * fetchClamped(cur, int(x) + i, int(y) + j);
+          area += w1d[i + 1] * w1d[j + 1] *
+                  glm::pow(vec3(fetchClamped(cur, int(x) + i, int(y) + j)), vec3(1.0f / gamma));
+      area = glm::pow(area, vec3(gamma));
       float distance = p.stereoFarDistanceM;
       if (depth) distance = 1.0f / (1.0f / nearZ + depth->at(x, y).r * (1.0f / farZ - 1.0f / nearZ));
       vec2 q;

@@ -110,6 +110,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_confidence", &core::Params::steadyConfidence},
     {"steady_clip_rejects", &core::Params::steadyClipRejects},
     {"steady_interpolated", &core::Params::steadyInterpolated},
+    {"steady_footprint_encoded", &core::Params::steadyFootprintEncoded},
 };
 
 constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source",   "imu_device",
