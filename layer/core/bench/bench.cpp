@@ -42,7 +42,8 @@ void usage() {
                "                      [--warmup N] [--format srgb8|unorm8|rgba16f] [--csv FILE]\n"
                "                      [--block auto|1x1|4x4]\n"
                "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to (measured\n"
-               "first and last at each size; the faster of the two is used).\n";
+               "first and last at each size; the faster of the two is used). <method>@catmull: the\n"
+               "method with the Catmull-Rom history.\n";
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -271,7 +272,10 @@ int main(int argc, char** argv) {
     };
     std::vector<Measured> measured;
     for (const std::string& m : methods) {
-      auto params = applyMethodName(m);
+      // "<method>@catmull": the same with the Catmull-Rom history (HistoryFilter::CatmullRom).
+      const bool catmull = m.size() > 8 && m.ends_with("@catmull");
+      auto params = applyMethodName(catmull ? m.substr(0, m.size() - 8) : m);
+      if (params && catmull) params->historyFilter = HistoryFilter::CatmullRom;
       if (!params) {
         std::cerr << "unknown method " << m << "\n";
         return 2;
