@@ -3,6 +3,8 @@
 
     python3 eval/readme_tables.py OUT_DIR            # the default suite (results.csv)
     python3 eval/readme_tables.py --corpus OUT_DIR   # the corpus (corpus.csv)
+    python3 eval/readme_tables.py --ablation OUT_DIR # steady's ablation (results.csv of a corpus
+                                                     # run with steady@key=value methods)
 
 So the README's figures are copied from a run, never typed in by hand.
 """
@@ -86,9 +88,52 @@ def corpus(out):
               f"{d['default_max_recovery_frames']} | {d['default_above_none']} / {d['default_above_taa']} |")
 
 
+def ablation(out):
+    """One row per method of the run (sweeps included): mean RMSE / none's and / the better of taa
+    and taa+jitter, cases above none's, cases with a frame above 1.10x none's, the worst frame, the
+    stereo error / none's (means over the cases), and the median temporal error / none's over the
+    low-head-speed cases (shimmer)."""
+    cases = {}
+    with open(f"{out}/results.csv", newline="") as f:
+        for r in csv.DictReader(f):
+            cases.setdefault(r["scenario"], {})[r["method"]] = r
+    methods = list(dict.fromkeys(m for c in cases.values() for m in c if m != "none"))
+    print("| variant | RMSE / none | RMSE / best taa | cases > none | cases with a frame > 1.1× none "
+          "| worst frame | stereo error / none | shimmer / none |")
+    print("|---" * 8 + "|")
+    for m in methods:
+        rel, best, st, shimmer = [], [], [], []
+        above = frames = 0
+        worst = 0.0
+        for c in cases.values():
+            if m not in c or "none" not in c:
+                continue
+            r, n = c[m], c["none"]
+            rel.append(float(r["rmse"]) / float(n["rmse"]))
+            above += float(r["rmse"]) > float(n["rmse"])
+            if "taa" in c and "taa+jitter" in c:
+                best.append(float(r["rmse"]) / min(float(c["taa"]["rmse"]), float(c["taa+jitter"]["rmse"])))
+            w = float(r["ghost_worst_ratio"])
+            frames += w > 1.1
+            worst = max(worst, w)
+            if float(n["stereo_error"]) > 0:
+                st.append(float(r["stereo_error"]) / float(n["stereo_error"]))
+            if r["low_speed"] == "1" and float(n["temporal_error"]) > 0:
+                shimmer.append(float(r["temporal_error"]) / float(n["temporal_error"]))
+        if not rel:
+            continue
+        shimmer.sort()
+        med = (shimmer[len(shimmer) // 2] + shimmer[(len(shimmer) - 1) // 2]) / 2 if shimmer else float("nan")
+        mean = lambda v: sum(v) / len(v) if v else float("nan")
+        print(f"| {m} ({len(rel)} cases) | {mean(rel):.3f} | {mean(best):.3f} | {above} | {frames} | "
+              f"{worst:.2f}× | {mean(st):.3f} | {med:.2f} |")
+
+
 if __name__ == "__main__":
     if len(sys.argv) == 3 and sys.argv[1] == "--corpus":
         corpus(sys.argv[2])
+    elif len(sys.argv) == 3 and sys.argv[1] == "--ablation":
+        ablation(sys.argv[2])
     elif len(sys.argv) == 2:
         suite(sys.argv[1])
     else:
