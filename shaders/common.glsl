@@ -25,6 +25,11 @@ layout(constant_id = 7) const int kCleanSrc = 0;      // bit0: src0, bit1: src1 
 layout(constant_id = 8) const bool kJitter = false;   // src0 was rendered on a jittered grid
 layout(constant_id = 9) const bool kCatmullRom = false;  // temporal: Catmull-Rom history sampling
 layout(constant_id = 10) const bool kBlocked = true;     // temporal/stereo: 4x4 pixels per invocation
+// History encoding (Params::historyFormat): 0 RGBA16F at binding 4; 1 RGBA8 UNORM at binding 8
+// holding sqrt of linear colour, rounded with a dither (storeHistory); 2 the same rounded to
+// nearest (format study only). The temporal pass decodes it (sampleSrc1Rgba); no other pass
+// reads an 8-bit history (the filter keeps RGBA16F when the stereo pass follows).
+layout(constant_id = 13) const int kHistoryEncoding = 0;
 
 layout(set = 0, binding = 0) uniform sampler2D uSrc0;    // current colour / this eye
 layout(set = 0, binding = 1) uniform sampler2D uSrc1;    // history / other eye
@@ -32,6 +37,7 @@ layout(set = 0, binding = 2) uniform sampler2D uDepth0;  // this eye's depth (te
 layout(set = 0, binding = 3) uniform sampler2D uDepth1;  // other eye's depth
 layout(set = 0, binding = 4, rgba16f) uniform writeonly image2D uHistOut;
 layout(set = 0, binding = 5, OUT_FORMAT) uniform writeonly image2D uOut;
+layout(set = 0, binding = 8, rgba8) uniform writeonly image2D uHistOut8;  // UNORM view of the 8-bit history
 
 // This eye's input as the app submitted it: the alpha of every output (alphaOf). The history's
 // alpha is the temporal method's own (steady: its sample count).
@@ -83,6 +89,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float steadyClipRejects;       // steady: 1 = a clip by t sigma divides the count by t^2 (mix weight)
   float steadyInvBlurBudgetPx2;  // steady: 1 / blur budget (0 = no bound)
   float steadyFootprint;         // steady: k of the [k, 1 - 2k, k]^2 footprint filter (0 = off)
+  uint ditherSeed;               // the 8-bit history's dither: changes every frame (storeHistory)
 } P;
 
 vec3 sanitize(vec3 c) {
@@ -167,11 +174,30 @@ void windowSums(ivec2 o, bool withCross, out vec3 s1, out vec3 s2, out vec3 sx) 
     processPixel(base + ivec2(3, 3), ivec2(3, 3)); \
   }
 
+// The 8-bit history's texel at integer texel coords t: linear colour (the square of the stored
+// value) and the alpha as stored.
+vec4 history8Texel(ivec2 t) {
+  vec4 v = texelFetch(uSrc1, P.src1Offset + clamp(t, ivec2(0), P.src1Size - 1), 0);
+  return vec4(v.rgb * v.rgb, v.a);
+}
+// Bilinear tap of src1 at normalised coords uv. The 8-bit history is filtered after decoding (four
+// texel fetches): filtering sqrt-encoded texels and squaring would darken every edge a little on
+// each sub-pixel reprojection (by f(1-f)(sqrt a - sqrt b)^2), and the history feeds back.
+vec4 tapSrc1(vec2 uv) {
+  if (kHistoryEncoding == 0) return textureLod(uSrc1, uv, 0.0);
+  vec2 pos = uv / P.src1InvExtent - vec2(P.src1Offset) - 0.5;  // texel centres at integers
+  ivec2 t = ivec2(floor(pos));
+  vec2 f = pos - vec2(t);
+  vec4 top = mix(history8Texel(t), history8Texel(t + ivec2(1, 0)), f.x);
+  vec4 bottom = mix(history8Texel(t + ivec2(0, 1)), history8Texel(t + ivec2(1, 1)), f.x);
+  return mix(top, bottom, f.y);
+}
+
 // Bilinear sample of src1 at continuous pixel coords q (pixel centres at +0.5) of its rect.
 // The alpha comes along unsanitised: only the history's (our own, finite) alpha is ever used.
 vec4 sampleSrc1Rgba(vec2 q) {
   q = clamp(q, vec2(0.5), vec2(P.src1Size) - 0.5);
-  vec4 c = textureLod(uSrc1, (vec2(P.src1Offset) + q) * P.src1InvExtent, 0.0);
+  vec4 c = tapSrc1((vec2(P.src1Offset) + q) * P.src1InvExtent);
   return vec4((kCleanSrc & 2) != 0 ? c.rgb : sanitize(c.rgb), c.a);
 }
 vec3 sampleSrc1(vec2 q) { return sampleSrc1Rgba(q).rgb; }
@@ -194,11 +220,11 @@ vec4 sampleSrc1CatmullRom(vec2 q) {
   vec2 t0 = (vec2(P.src1Offset) + c - 0.5) * P.src1InvExtent;  // centre of texel c - 1
   vec2 t3 = (vec2(P.src1Offset) + c + 2.5) * P.src1InvExtent;  // centre of texel c + 2
   vec2 t12 = (vec2(P.src1Offset) + c + 0.5 + w2 / w12) * P.src1InvExtent;
-  vec4 r = textureLod(uSrc1, vec2(t12.x, t0.y), 0.0) * (w12.x * w0.y) +
-           textureLod(uSrc1, vec2(t0.x, t12.y), 0.0) * (w0.x * w12.y) +
-           textureLod(uSrc1, t12, 0.0) * (w12.x * w12.y) +
-           textureLod(uSrc1, vec2(t3.x, t12.y), 0.0) * (w3.x * w12.y) +
-           textureLod(uSrc1, vec2(t12.x, t3.y), 0.0) * (w12.x * w3.y);
+  vec4 r = tapSrc1(vec2(t12.x, t0.y)) * (w12.x * w0.y) +
+           tapSrc1(vec2(t0.x, t12.y)) * (w0.x * w12.y) +
+           tapSrc1(t12) * (w12.x * w12.y) +
+           tapSrc1(vec2(t3.x, t12.y)) * (w3.x * w12.y) +
+           tapSrc1(vec2(t12.x, t3.y)) * (w12.x * w3.y);
   float wsum = w12.x * w0.y + w0.x * w12.y + w12.x * w12.y + w3.x * w12.y + w12.x * w3.y;
   r = max(r / wsum, vec4(0.0));
   return vec4((kCleanSrc & 2) != 0 ? r.rgb : sanitize(r.rgb), r.a);
@@ -236,8 +262,41 @@ float alphaOf(ivec2 p) {
   return texelFetch(uAppInput, P.appInputOffset + clamp(p, ivec2(0), P.src0Size - 1), 0).a;
 }
 
+// Uniform in [0, 1) per pixel and frame (ditherSeed changes every frame): hash "lowbias32"
+// (Chris Wellons, hash-prospector) of the pixel and the seed.
+float ditherThreshold(ivec2 p) {
+  uint h = uint(p.x) * 0x8da6b343u ^ uint(p.y) * 0xd8163841u ^ P.ditherSeed * 0xcb1ab31fu;
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return float(h >> 8) * (1.0 / 16777216.0);
+}
+
+// Stores a history texel: linear c and the method's count (steady's sample count; 1 otherwise).
+// The 8-bit history holds sqrt(c) (levels about as fine as sRGB's over [0, 1], finer near black;
+// decoded by a multiply, so write and read are exact inverses on every device, which an sRGB view
+// is not: lavapipe's sRGB decode is off by ~2 % in the dark, and the history feeds that back
+// 1/alpha = 16 times over) and count * countScale8 in [0, 1] (steady: count / its cap).
+// The rounding is dithered: a blend step alpha * |cur - hist| under half a level (alpha = 1/16:
+// eight levels apart) would round back to the old level every frame and stall. Level k + 1 is
+// taken with the probability that makes the expected decoded value c exactly (the levels decode
+// to k^2 and (k+1)^2), so the history follows in expectation.
+void storeHistory(ivec2 p, vec3 c, float count, float countScale8) {
+  if (kHistoryEncoding == 0) {
+    imageStore(uHistOut, p, vec4(c, count));
+  } else {
+    vec3 v = clamp(c, 0.0, 1.0) * (255.0 * 255.0);  // in squared levels
+    vec3 k = min(floor(sqrt(v)), vec3(254.0));
+    vec3 up = kHistoryEncoding == 1 ? step(vec3(ditherThreshold(p)), (v - k * k) / (2.0 * k + 1.0))
+                                    : step(vec3(k + 0.5), sqrt(v));
+    imageStore(uHistOut8, p, vec4((k + up) * (1.0 / 255.0), clamp(count * countScale8, 0.0, 1.0)));
+  }
+}
+
 // After fxaa the history is only the stereo pass's src0; its alpha goes unread.
-void writeHistory(ivec2 p, vec3 c) { imageStore(uHistOut, p, vec4(c, 1.0)); }
+void writeHistory(ivec2 p, vec3 c) { storeHistory(p, c, 1.0, 1.0); }
 
 // o: linear RGBA; encoded for an sRGB target (alpha is linear in every format, never encoded).
 void storeOutput(ivec2 p, vec4 o) {

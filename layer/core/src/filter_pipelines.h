@@ -19,7 +19,7 @@ enum class Pass : uint32_t { Copy, Temporal, Stereo, Fxaa, Count };
 enum OutFmt : uint32_t { kOut8 = 0, kOut16 = 1 };
 
 // The specialisation constants 0-12 of common.glsl, in constant_id order (passSpecKey builds it).
-using SpecKey = std::array<int32_t, 13>;
+using SpecKey = std::array<int32_t, 14>;
 
 struct CompiledPipeline {
   VkPipeline pipeline = VK_NULL_HANDLE;

@@ -58,6 +58,7 @@ struct PassUniforms {
   float steadyClipRejects;       // steady: 1 = a clip by t sigma divides the count by t^2 (a mix weight)
   float steadyInvBlurBudgetPx2;  // steady: 1 / blur budget (0 = no bound)
   float steadyFootprint;         // steady: k of the [k, 1 - 2k, k]^2 footprint filter (0 = off)
+  uint32_t ditherSeed;           // the 8-bit history's dither: new every frame (common.glsl storeHistory)
 };
 
 // std140 offsets of PassParams in common.glsl: a host member moved fails here, a shader member
@@ -93,6 +94,7 @@ static_assert(offsetof(PassUniforms, steadyConfidence) == 440);
 static_assert(offsetof(PassUniforms, steadyClipRejects) == 444);
 static_assert(offsetof(PassUniforms, steadyInvBlurBudgetPx2) == 448);
 static_assert(offsetof(PassUniforms, steadyFootprint) == 452);
-static_assert(sizeof(PassUniforms) == 464);  // the block's 456 bytes, rounded up to 16 by DepthToInvZ
+static_assert(offsetof(PassUniforms, ditherSeed) == 456);
+static_assert(sizeof(PassUniforms) == 464);  // the block's 460 bytes, rounded up to 16 by DepthToInvZ
 
 }  // namespace steadyxr::core

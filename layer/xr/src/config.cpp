@@ -114,7 +114,7 @@ constexpr BoolKey kBoolKeys[] = {
 
 constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source",   "imu_device",
                                       "log_level", "log_file",     "dump_frames",   "dump_dir",
-                                      "jitter",    "sample_count", "history_filter"};
+                                      "jitter",    "sample_count", "history_filter", "history_format"};
 
 std::string formatFloat(float f) {
   std::ostringstream os;
@@ -211,6 +211,14 @@ void applyKey(Config& c, const std::string& key, const std::string& value, const
       c.params.historyFilter = core::HistoryFilter::CatmullRom;
     else
       bad(sink, origin, value, "bilinear or catmull-rom", "bilinear");
+  } else if (key == "history_format") {
+    const std::string l = lower(value);
+    if (l == "rgba16f")
+      c.params.historyFormat = core::HistoryFormat::Rgba16f;
+    else if (l == "srgb8")
+      c.params.historyFormat = core::HistoryFormat::Srgb8Dithered;
+    else
+      bad(sink, origin, value, "rgba16f or srgb8", defaults.params.historyFormat == core::HistoryFormat::Rgba16f ? "rgba16f" : "srgb8");
   } else if (key == "sample_count") {
     if (auto n = parseCount(value); n && *n >= 1 && *n <= core::Params::kMaxSamples)
       c.params.sampleCount = *n;
