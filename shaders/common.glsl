@@ -98,17 +98,19 @@ vec3 sanitize(vec3 c) {
   return clamp(mix(c, vec3(0.0), bad), vec3(0.0), vec3(65000.0));
 }
 
-vec3 fetchSrc0(ivec2 p) {
+// The alpha comes along unsanitised (only alphaOf's use of it is exact: unjittered).
+vec4 fetchSrc0Rgba(ivec2 p) {
   p = clamp(p, ivec2(0), P.src0Size - 1);
-  vec3 c;
+  vec4 c;
   if (kJitter) {  // un-jitter: bilinear at our pixel centre on src0's grid, inside its rect
     vec2 q = clamp(vec2(p) + 0.5 - P.jitterPx, vec2(0.5), vec2(P.src0Size) - 0.5);
-    c = textureLod(uSrc0, (vec2(P.src0Offset) + q) * P.src0InvExtent, 0.0).rgb;
+    c = textureLod(uSrc0, (vec2(P.src0Offset) + q) * P.src0InvExtent, 0.0);
   } else {
-    c = texelFetch(uSrc0, P.src0Offset + p, 0).rgb;
+    c = texelFetch(uSrc0, P.src0Offset + p, 0);
   }
-  return (kCleanSrc & 1) != 0 ? c : sanitize(c);
+  return vec4((kCleanSrc & 1) != 0 ? c.rgb : sanitize(c.rgb), c.a);
 }
+vec3 fetchSrc0(ivec2 p) { return fetchSrc0Rgba(p).rgb; }
 
 // On a CPU device every pass but fxaa runs 4x4 pixels per invocation (kBlocked): the sixteen 3x3
 // neighbourhoods of temporal and stereo share one 6x6 block of src0 fetches (36 instead of 144),
@@ -127,10 +129,16 @@ vec3 gBlock[6 * 6];  // (kBlockW + 2) * (kBlockH + 2) at most
 // and windows from them costs a third of summing nine taps per pixel.
 vec3 gCol1[6 * 4], gCol2[6 * 4], gColX[6 * 4];
 vec3 crossProducts(vec3 c) { return vec3(c.r * c.g, c.r * c.b, c.g * c.b); }
+// src0's alpha at the block's own pixels: in the temporal pass src0 is the app's input, so an
+// unjittered fetch there is alphaOf's (blockAlphaOf), and the output needs no fetch of its own.
+float gAlpha[4 * 4];
 void loadBlock(ivec2 base, bool withCross) {
   [[unroll]] for (int j = 0; j < kBlockH + 2; ++j)
-    [[unroll]] for (int i = 0; i < kTileW; ++i)
-      gBlock[j * kTileW + i] = fetchSrc0(base + ivec2(i - 1, j - 1));
+    [[unroll]] for (int i = 0; i < kTileW; ++i) {
+      vec4 texel = fetchSrc0Rgba(base + ivec2(i - 1, j - 1));
+      gBlock[j * kTileW + i] = texel.rgb;
+      if (i >= 1 && i <= kBlockW && j >= 1 && j <= kBlockH) gAlpha[(j - 1) * kBlockW + (i - 1)] = texel.a;
+    }
   [[unroll]] for (int r = 0; r < kBlockH; ++r)
     [[unroll]] for (int i = 0; i < kTileW; ++i) {
       vec3 a = gBlock[r * kTileW + i], b = gBlock[(r + 1) * kTileW + i], c = gBlock[(r + 2) * kTileW + i];
@@ -309,6 +317,8 @@ void storeOutput(ivec2 p, vec4 o) {
 }
 
 void writeOutput(ivec2 p, vec3 c) { storeOutput(p, vec4(c, alphaOf(p))); }
+// alphaOf(p) for block pixel o of a pass whose src0 is the app's input (after loadBlock).
+float blockAlphaOf(ivec2 p, ivec2 o) { return kJitter ? alphaOf(p) : gAlpha[o.y * kBlockW + o.x]; }
 
 // Reprojects pixel centre p (with 1/z) through matrix m; returns false when behind or outside.
 bool reproject(mat4 m, vec2 pc, float invZ, out vec2 q, out float invZOther) {

@@ -172,7 +172,7 @@ void processPixel(ivec2 p, ivec2 o) {
   if (inRange) {
     // The history's alpha is steady's sample count; the output's alpha is the app's (alphaOf).
     if (kWriteHist) storeHistory(p, result, count, P.steadyAlphaFloor);  // 8-bit: steady's count / its cap
-    if (kWriteOut) writeOutput(p, result);
+    if (kWriteOut) storeOutput(p, vec4(result, neighbourhood ? blockAlphaOf(p, o) : alphaOf(p)));
   }
 }
 
