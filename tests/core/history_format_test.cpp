@@ -5,11 +5,11 @@
 // The app renders the gradient into 8-bit sRGB with its own per-frame dither (as renderers do to
 // hide banding), so the truth is recoverable only by averaging frames: each input pixel is the
 // gradient's level rounded up with the probability of its fraction. The filter's output is
-// RGBA16F, so what it writes is the history's precision, not the output's. Per column, the output
-// averaged over rows and the last frames is compared with the gradient (in sRGB levels). A history
-// rounded to nearest stops moving once alpha * |current - history| is under half a level (alpha =
-// 1/16: eight levels; here after a few frames) and keeps the level it stopped at: the column means
-// then step with the levels (a sawtooth of up to half a level against the smooth gradient).
+// RGBA16F, so what it writes carries the history's precision, not the output's. Per column, the
+// output averaged over rows and the last frames is compared with the RGBA16F history's (in sRGB
+// levels). A history rounded to nearest stops moving once alpha * |current - history| is under
+// half a level (alpha = 1/16: eight levels) and keeps the level it stopped at: its column means
+// then step with the history's levels against the smooth gradient.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -24,11 +24,10 @@
 #include "steadyxr/core/filter.h"
 #include "validated_context_test.h"
 
-using namespace steadyxr;
 using namespace steadyxr::core;
-using test::GpuImage;
-using test::HostImage;
-using test::ValidatedContextTest;
+using steadyxr::test::GpuImage;
+using steadyxr::test::HostImage;
+using steadyxr::test::ValidatedContextTest;
 
 namespace {
 
