@@ -126,9 +126,11 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
     else if (key == "interp")
       params->steadyInterpolated = value != 0.0f;
     else if (key == "history" && (value == 16.0f || value == 8.0f))  // bits per channel
-      params->historyFormat = value == 16.0f ? core::HistoryFormat::Rgba16f : core::HistoryFormat::Srgb8Dithered;
+      params->historyFormat =
+          value == 16.0f ? core::HistoryFormat::Rgba16f : core::HistoryFormat::Srgb8Dithered;
     else if (key == "dither" && params->historyFormat != core::HistoryFormat::Rgba16f)  // after history=8
-      params->historyFormat = value != 0.0f ? core::HistoryFormat::Srgb8Dithered : core::HistoryFormat::Srgb8Nearest;
+      params->historyFormat =
+          value != 0.0f ? core::HistoryFormat::Srgb8Dithered : core::HistoryFormat::Srgb8Nearest;
     else {
       *error = "unknown parameter '" + key +
                "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d, catmull, floor, conf, reject, clip, blur, "

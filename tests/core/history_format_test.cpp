@@ -32,7 +32,9 @@ using steadyxr::test::ValidatedContextTest;
 namespace {
 
 // IEC 61966-2-1 (sRGB), written from the standard.
-float srgbToLinear(float s) { return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f); }
+float srgbToLinear(float s) {
+  return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
+}
 float linearToSrgb(float c) {
   c = std::clamp(c, 0.0f, 1.0f);
   return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
@@ -79,7 +81,8 @@ class HistoryFormatTest : public ValidatedContextTest {
     if (!filter) return {};
     std::array<std::unique_ptr<GpuImage>, 2> in, out;
     for (int e = 0; e < 2; ++e) {
-      in[e] = std::make_unique<GpuImage>(*ctx_, VK_FORMAT_R8G8B8A8_SRGB, kW, kH, 1, VK_IMAGE_USAGE_SAMPLED_BIT);
+      in[e] =
+          std::make_unique<GpuImage>(*ctx_, VK_FORMAT_R8G8B8A8_SRGB, kW, kH, 1, VK_IMAGE_USAGE_SAMPLED_BIT);
       out[e] = std::make_unique<GpuImage>(*ctx_, VK_FORMAT_R16G16B16A16_SFLOAT, kW, kH, 1,
                                           VK_IMAGE_USAGE_STORAGE_BIT);
     }
@@ -151,14 +154,16 @@ constexpr float kMaxColumnBias = 0.1f;
 
 TEST_F(HistoryFormatTest, DitheredEightBitHistoryKeepsADarkGradientWithoutBanding) {
   const Bias b = biasAgainstRgba16f(HistoryFormat::Srgb8Dithered);
-  std::printf("column mean against rgba16f (sRGB levels): 8-bit dithered max %.3f rms %.3f\n", b.maxAbs, b.rms);
+  std::printf("column mean against rgba16f (sRGB levels): 8-bit dithered max %.3f rms %.3f\n", b.maxAbs,
+              b.rms);
   EXPECT_LT(b.maxAbs, kMaxColumnBias);
 }
 
 // The measurement sees the stall: an 8-bit history rounded to nearest bands.
 TEST_F(HistoryFormatTest, NearestRoundedEightBitHistoryBands) {
   const Bias b = biasAgainstRgba16f(HistoryFormat::Srgb8Nearest);
-  std::printf("column mean against rgba16f (sRGB levels): 8-bit nearest max %.3f rms %.3f\n", b.maxAbs, b.rms);
+  std::printf("column mean against rgba16f (sRGB levels): 8-bit nearest max %.3f rms %.3f\n", b.maxAbs,
+              b.rms);
   EXPECT_GT(b.maxAbs, kMaxColumnBias);
 }
 

@@ -356,33 +356,35 @@ int main(int argc, char** argv) {
     for (size_t k = 0; k + 1 < methods.size(); ++k) {
       const Measured& me = k == 0 ? floor : measured[k];
       rows.push_back({size, k == 0 ? "copy (none)" : methods[k], me.gpuMs, floor.gpuMs, me.hostUs,
-                      me.hostCpuUs, k == 0 ? copyMinMs : me.gpuMinMs, copyMinMs, me.cpuMs, floor.cpuMs, me.model});
+                      me.hostCpuUs, k == 0 ? copyMinMs : me.gpuMinMs, copyMinMs, me.cpuMs, floor.cpuMs,
+                      me.model});
       const Row& r = rows.back();
       const steadyxr::bench::Traffic& copyModel = floor.model;
       std::printf(
-          "%5ux%-5u %-18s gpu %8.3f ms x%5.2f copy | model %4.1f B/px x%4.2f, ops %5.2f | min %8.3f ms x%5.2f | "
-          "cpu %8.3f ms x%5.2f | host %7.1f us (thread cpu %5.1f)\n",
+          "%5ux%-5u %-18s gpu %8.3f ms x%5.2f copy | model %4.1f B/px x%4.2f, ops %5.2f | "
+          "min %8.3f ms x%5.2f | cpu %8.3f ms x%5.2f | host %7.1f us (thread cpu %5.1f)\n",
           size.width, size.height, r.method.c_str(), r.gpuMs, r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0,
           r.model.total(), r.model.total() / copyModel.total(),
           r.model.fetches + r.model.samples + r.model.stores, r.gpuMinMs,
-          r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0, r.cpuMs, r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0,
-          r.hostUs, r.hostCpuUs);
+          r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0, r.cpuMs,
+          r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0, r.hostUs, r.hostCpuUs);
     }
     std::printf("%5ux%-5u copy measured first %.3f ms, last %.3f ms (median)\n", size.width, size.height,
                 floorFirst.gpuMs, floorLast.gpuMs);
     std::fflush(stdout);
   }
   std::printf(
-      "\n| per-eye size | method | GPU ms/stereo frame (median) | x copy | model B/px (read+write) | model x copy "
-      "| GPU ms (min) | x copy (min) | CPU ms (lavapipe) | x copy (CPU) | host us | host us (thread CPU) |\n");
+      "\n| per-eye size | method | GPU ms/stereo frame (median) | x copy | model B/px (read+write) | "
+      "model x copy | GPU ms (min) | x copy (min) | CPU ms (lavapipe) | x copy (CPU) | host us | "
+      "host us (thread CPU) |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   const double copyBytes = 2.0 * (opt.format == VK_FORMAT_R16G16B16A16_SFLOAT ? 8.0 : 4.0);
   for (const Row& r : rows)
     std::printf("| %ux%u | %s | %.3f | %.2f | %.0f+%.0f | %.2f | %.3f | %.2f | %.3f | %.2f | %.1f | %.1f |\n",
-                r.size.width, r.size.height, r.method.c_str(), r.gpuMs, r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0,
-                r.model.readBytes, r.model.writeBytes, r.model.total() / copyBytes, r.gpuMinMs,
-                r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0, r.cpuMs,
-                r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0, r.hostUs, r.hostCpuUs);
+                r.size.width, r.size.height, r.method.c_str(), r.gpuMs,
+                r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0, r.model.readBytes, r.model.writeBytes,
+                r.model.total() / copyBytes, r.gpuMinMs, r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0,
+                r.cpuMs, r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0, r.hostUs, r.hostCpuUs);
   if (!opt.csv.empty()) {
     std::ofstream csv(opt.csv);
     csv << "width,height,method,gpu_ms,copy_ms,ratio_to_copy,gpu_min_ms,copy_min_ms,ratio_min,cpu_ms,copy_"

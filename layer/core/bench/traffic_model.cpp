@@ -9,7 +9,9 @@ namespace {
 
 using core::TemporalMethod;
 
-double texelBytes(VkFormat f) { return f == VK_FORMAT_R16G16B16A16_SFLOAT ? 8.0 : 4.0; }
+double texelBytes(VkFormat f) {
+  return f == VK_FORMAT_R16G16B16A16_SFLOAT ? 8.0 : 4.0;
+}
 
 }  // namespace
 

@@ -177,11 +177,13 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
       sampled(sampler.get(), io.src1),
       sampled(samplerNearest.get(), io.depth0),
       sampled(samplerNearest.get(), io.depth1),
-      {VK_NULL_HANDLE, io.historyOut && !history8 ? io.historyOut : dummy16.view.get(), VK_IMAGE_LAYOUT_GENERAL},
+      {VK_NULL_HANDLE, io.historyOut && !history8 ? io.historyOut : dummy16.view.get(),
+       VK_IMAGE_LAYOUT_GENERAL},
       {VK_NULL_HANDLE, io.output ? io.output : outDummy, VK_IMAGE_LAYOUT_GENERAL},
       {},  // 6: the uniform buffer
       sampled(samplerNearest.get(), io.appInput),
-      {VK_NULL_HANDLE, io.historyOut && history8 ? io.historyOut : dummy8.view.get(), VK_IMAGE_LAYOUT_GENERAL},
+      {VK_NULL_HANDLE, io.historyOut && history8 ? io.historyOut : dummy8.view.get(),
+       VK_IMAGE_LAYOUT_GENERAL},
   }};
   const VkDescriptorBufferInfo bi{s.ubo.get(), offset, sizeof(PassUniforms)};
   std::array<VkWriteDescriptorSet, kBindings> w{};
