@@ -153,7 +153,7 @@ class HistoryFormatTest : public ValidatedContextTest {
 constexpr float kMaxColumnBias = 0.1f;
 
 TEST_F(HistoryFormatTest, DitheredEightBitHistoryKeepsADarkGradientWithoutBanding) {
-  const Bias b = biasAgainstRgba16f(HistoryFormat::Srgb8Dithered);
+  const Bias b = biasAgainstRgba16f(HistoryFormat::Rgba8Dithered);
   std::printf("column mean against rgba16f (sRGB levels): 8-bit dithered max %.3f rms %.3f\n", b.maxAbs,
               b.rms);
   EXPECT_LT(b.maxAbs, kMaxColumnBias);
@@ -161,7 +161,7 @@ TEST_F(HistoryFormatTest, DitheredEightBitHistoryKeepsADarkGradientWithoutBandin
 
 // The measurement sees the stall: an 8-bit history rounded to nearest bands.
 TEST_F(HistoryFormatTest, NearestRoundedEightBitHistoryBands) {
-  const Bias b = biasAgainstRgba16f(HistoryFormat::Srgb8Nearest);
+  const Bias b = biasAgainstRgba16f(HistoryFormat::Rgba8Nearest);
   std::printf("column mean against rgba16f (sRGB levels): 8-bit nearest max %.3f rms %.3f\n", b.maxAbs,
               b.rms);
   EXPECT_GT(b.maxAbs, kMaxColumnBias);
@@ -171,7 +171,7 @@ TEST_F(HistoryFormatTest, NearestRoundedEightBitHistoryBands) {
 // both keep RGBA16F whatever is asked.
 TEST(HistoryFormat, EightBitOnlyForEightBitInputsWithoutStereo) {
   Params p;
-  p.historyFormat = HistoryFormat::Srgb8Dithered;
+  p.historyFormat = HistoryFormat::Rgba8Dithered;
   EXPECT_EQ(historyFormat(p, VK_FORMAT_R8G8B8A8_SRGB), VK_FORMAT_R8G8B8A8_UNORM);
   EXPECT_EQ(historyFormat(p, VK_FORMAT_B8G8R8A8_UNORM), VK_FORMAT_R8G8B8A8_UNORM);
   EXPECT_EQ(historyFormat(p, VK_FORMAT_R16G16B16A16_SFLOAT), VK_FORMAT_R16G16B16A16_SFLOAT);

@@ -248,7 +248,7 @@ std::optional<Params> methodParams(const std::string& spec) {
   if (suffix == "history=16")
     params->historyFormat = HistoryFormat::Rgba16f;
   else if (suffix == "history=8")
-    params->historyFormat = HistoryFormat::Srgb8Dithered;
+    params->historyFormat = HistoryFormat::Rgba8Dithered;
   else
     return std::nullopt;
   return params;

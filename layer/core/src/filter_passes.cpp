@@ -79,7 +79,7 @@ PassDispatch firstStage(const PassContext& c, uint32_t e, Pass pass) {
   d.io.historyOut = d.switches.writeHistory ? c.eyes[e].history[c.historyWrite].view.get() : VK_NULL_HANDLE;
   // The history's format (historyFormat) decides how it is written and read back.
   const bool history8 = c.eyes[e].history[0].format == VK_FORMAT_R8G8B8A8_UNORM;
-  d.switches.historyEncoding = !history8 ? 0 : c.params.historyFormat == HistoryFormat::Srgb8Nearest ? 2 : 1;
+  d.switches.historyEncoding = !history8 ? 0 : c.params.historyFormat == HistoryFormat::Rgba8Nearest ? 2 : 1;
   d.uniforms.ditherSeed = c.ditherSeed;
   d.io.output = stereo ? VK_NULL_HANDLE : c.plan.targets[e].view;
   return d;

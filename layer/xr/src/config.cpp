@@ -215,10 +215,10 @@ void applyKey(Config& c, const std::string& key, const std::string& value, const
     const std::string l = lower(value);
     if (l == "rgba16f")
       c.params.historyFormat = core::HistoryFormat::Rgba16f;
-    else if (l == "srgb8")
-      c.params.historyFormat = core::HistoryFormat::Srgb8Dithered;
+    else if (l == "rgba8")
+      c.params.historyFormat = core::HistoryFormat::Rgba8Dithered;
     else
-      bad(sink, origin, value, "rgba16f or srgb8", defaults.params.historyFormat == core::HistoryFormat::Rgba16f ? "rgba16f" : "srgb8");
+      bad(sink, origin, value, "rgba16f or rgba8", defaults.params.historyFormat == core::HistoryFormat::Rgba16f ? "rgba16f" : "rgba8");
   } else if (key == "sample_count") {
     if (auto n = parseCount(value); n && *n >= 1 && *n <= core::Params::kMaxSamples)
       c.params.sampleCount = *n;

@@ -43,8 +43,8 @@ enum class HistoryFormat : uint8_t {
   // of stalling), decoded before bilinear filtering; the sample count in the alpha as a fraction
   // of its cap. Used for 8-bit inputs without the stereo pass only (filter.h, historyFormat): a
   // float input may exceed [0, 1].
-  Srgb8Dithered,
-  Srgb8Nearest,  // as Srgb8Dithered with round-to-nearest: the stall, for the format study only
+  Rgba8Dithered,
+  Rgba8Nearest,  // as Rgba8Dithered with round-to-nearest: the stall, for the format study only
 };
 
 struct Params {
