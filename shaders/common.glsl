@@ -28,7 +28,9 @@ layout(constant_id = 10) const bool kBlocked = true;     // temporal/stereo: 4x4
 // History encoding (Params::historyFormat): 0 RGBA16F at binding 4; 1 RGBA8 UNORM at binding 8
 // holding sqrt of linear colour, rounded with a dither (storeHistory); 2 the same rounded to
 // nearest (format study only). The temporal pass decodes it (sampleSrc1Rgba); no other pass
-// reads an 8-bit history (the filter keeps RGBA16F when the stereo pass follows).
+// reads an 8-bit history (the filter keeps RGBA16F when the stereo pass follows, and with
+// Catmull-Rom history sampling: its five taps decoded in line took llvmpipe twice as long to
+// compile, dead code included).
 layout(constant_id = 13) const int kHistoryEncoding = 0;
 
 layout(set = 0, binding = 0) uniform sampler2D uSrc0;    // current colour / this eye
@@ -228,11 +230,11 @@ vec4 sampleSrc1CatmullRom(vec2 q) {
   vec2 t0 = (vec2(P.src1Offset) + c - 0.5) * P.src1InvExtent;  // centre of texel c - 1
   vec2 t3 = (vec2(P.src1Offset) + c + 2.5) * P.src1InvExtent;  // centre of texel c + 2
   vec2 t12 = (vec2(P.src1Offset) + c + 0.5 + w2 / w12) * P.src1InvExtent;
-  vec4 r = tapSrc1(vec2(t12.x, t0.y)) * (w12.x * w0.y) +
-           tapSrc1(vec2(t0.x, t12.y)) * (w0.x * w12.y) +
-           tapSrc1(t12) * (w12.x * w12.y) +
-           tapSrc1(vec2(t3.x, t12.y)) * (w3.x * w12.y) +
-           tapSrc1(vec2(t12.x, t3.y)) * (w12.x * w3.y);
+  vec4 r = textureLod(uSrc1, vec2(t12.x, t0.y), 0.0) * (w12.x * w0.y) +
+           textureLod(uSrc1, vec2(t0.x, t12.y), 0.0) * (w0.x * w12.y) +
+           textureLod(uSrc1, t12, 0.0) * (w12.x * w12.y) +
+           textureLod(uSrc1, vec2(t3.x, t12.y), 0.0) * (w3.x * w12.y) +
+           textureLod(uSrc1, vec2(t12.x, t3.y), 0.0) * (w12.x * w3.y);
   float wsum = w12.x * w0.y + w0.x * w12.y + w12.x * w12.y + w3.x * w12.y + w12.x * w3.y;
   r = max(r / wsum, vec4(0.0));
   return vec4((kCleanSrc & 2) != 0 ? r.rgb : sanitize(r.rgb), r.a);

@@ -167,8 +167,8 @@ TEST_F(HistoryFormatTest, NearestRoundedEightBitHistoryBands) {
   EXPECT_GT(b.maxAbs, kMaxColumnBias);
 }
 
-// Float inputs may hold values outside [0, 1], and the stereo pass reads the history as it is:
-// both keep RGBA16F whatever is asked.
+// Float inputs may hold values outside [0, 1], the stereo pass reads the history as it is, and
+// Catmull-Rom sampling reads it through the sampler: all keep RGBA16F whatever is asked.
 TEST(HistoryFormat, EightBitOnlyForEightBitInputsWithoutStereo) {
   Params p;
   p.historyFormat = HistoryFormat::Rgba8Dithered;
@@ -178,6 +178,9 @@ TEST(HistoryFormat, EightBitOnlyForEightBitInputsWithoutStereo) {
   p.stereo = true;
   EXPECT_EQ(historyFormat(p, VK_FORMAT_R8G8B8A8_SRGB), VK_FORMAT_R16G16B16A16_SFLOAT);
   p.stereo = false;
+  p.historyFilter = HistoryFilter::CatmullRom;
+  EXPECT_EQ(historyFormat(p, VK_FORMAT_R8G8B8A8_SRGB), VK_FORMAT_R16G16B16A16_SFLOAT);
+  p.historyFilter = HistoryFilter::Bilinear;
   p.historyFormat = HistoryFormat::Rgba16f;
   EXPECT_EQ(historyFormat(p, VK_FORMAT_R8G8B8A8_SRGB), VK_FORMAT_R16G16B16A16_SFLOAT);
 }

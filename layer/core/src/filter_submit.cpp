@@ -258,8 +258,8 @@ void Filter::Impl::advanceEyes(const StereoFrame& frame, const FramePlan& plan) 
 }
 
 VkFormat historyFormat(const Params& params, VkFormat inputFormat) {
-  const bool history8 =
-      params.historyFormat != HistoryFormat::Rgba16f && !params.stereo && isUnorm8(inputFormat);
+  const bool history8 = params.historyFormat != HistoryFormat::Rgba16f && !params.stereo &&
+                        params.historyFilter == HistoryFilter::Bilinear && isUnorm8(inputFormat);
   return history8 ? VK_FORMAT_R8G8B8A8_UNORM : VK_FORMAT_R16G16B16A16_SFLOAT;
 }
 

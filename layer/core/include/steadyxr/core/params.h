@@ -41,8 +41,8 @@ enum class HistoryFormat : uint8_t {
   // 4 bytes: RGBA8 holding sqrt of linear colour with dithered rounding (a per-pixel, per-frame
   // threshold, so a blend step under half a level still moves the history in expectation instead
   // of stalling), decoded before bilinear filtering; the sample count in the alpha as a fraction
-  // of its cap. Used for 8-bit inputs without the stereo pass only (filter.h, historyFormat): a
-  // float input may exceed [0, 1].
+  // of its cap. Used for 8-bit inputs, without the stereo pass and with the bilinear history
+  // filter only (filter.h, historyFormat): a float input may exceed [0, 1].
   Rgba8Dithered,
   Rgba8Nearest,  // as Rgba8Dithered with round-to-nearest: the stall, for the format study only
 };
