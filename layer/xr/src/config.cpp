@@ -112,8 +112,8 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_interpolated", &core::Params::steadyInterpolated},
 };
 
-constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source",   "imu_device",
-                                      "log_level", "log_file",     "dump_frames",   "dump_dir",
+constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source",    "imu_device",
+                                      "log_level", "log_file",     "dump_frames",    "dump_dir",
                                       "jitter",    "sample_count", "history_filter", "history_format"};
 
 std::string formatFloat(float f) {
@@ -218,7 +218,8 @@ void applyKey(Config& c, const std::string& key, const std::string& value, const
     else if (l == "rgba8")
       c.params.historyFormat = core::HistoryFormat::Rgba8Dithered;
     else
-      bad(sink, origin, value, "rgba16f or rgba8", defaults.params.historyFormat == core::HistoryFormat::Rgba16f ? "rgba16f" : "rgba8");
+      bad(sink, origin, value, "rgba16f or rgba8",
+          defaults.params.historyFormat == core::HistoryFormat::Rgba16f ? "rgba16f" : "rgba8");
   } else if (key == "sample_count") {
     if (auto n = parseCount(value); n && *n >= 1 && *n <= core::Params::kMaxSamples)
       c.params.sampleCount = *n;
