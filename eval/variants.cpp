@@ -127,11 +127,17 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyNearestDepthM = value;
     else if (key == "interp")
       params->steadyInterpolated = value != 0.0f;
+    else if (key == "history" && (value == 16.0f || value == 8.0f))  // bits per channel
+      params->historyFormat =
+          value == 16.0f ? core::HistoryFormat::Rgba16f : core::HistoryFormat::Rgba8Dithered;
+    else if (key == "dither" && params->historyFormat != core::HistoryFormat::Rgba16f)  // after history=8
+      params->historyFormat =
+          value != 0.0f ? core::HistoryFormat::Rgba8Dithered : core::HistoryFormat::Rgba8Nearest;
     else {
       *error = "unknown parameter '" + key +
                "' (hmax, wmin, wlb, amin, alpha, gamma, beta, d, catmull, floor, conf, reject, clip, blur, "
                "footprint, fpenc, near, "
-               "interp)";
+               "interp, history=16|8, dither after history=8)";
       return false;
     }
     v->sweep = true;

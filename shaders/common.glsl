@@ -25,6 +25,13 @@ layout(constant_id = 7) const int kCleanSrc = 0;      // bit0: src0, bit1: src1 
 layout(constant_id = 8) const bool kJitter = false;   // src0 was rendered on a jittered grid
 layout(constant_id = 9) const bool kCatmullRom = false;  // temporal: Catmull-Rom history sampling
 layout(constant_id = 10) const bool kBlocked = true;     // temporal/stereo: 4x4 pixels per invocation
+// History encoding (Params::historyFormat): 0 RGBA16F at binding 4; 1 RGBA8 UNORM at binding 8
+// holding sqrt of linear colour, rounded with a dither (storeHistory); 2 the same rounded to
+// nearest (format study only). The temporal pass decodes it (sampleSrc1Rgba); no other pass
+// reads an 8-bit history (the filter keeps RGBA16F when the stereo pass follows, and with
+// Catmull-Rom history sampling: its five taps decoded in line took llvmpipe twice as long to
+// compile, dead code included).
+layout(constant_id = 13) const int kHistoryEncoding = 0;
 
 layout(set = 0, binding = 0) uniform sampler2D uSrc0;    // current colour / this eye
 layout(set = 0, binding = 1) uniform sampler2D uSrc1;    // history / other eye
@@ -32,6 +39,7 @@ layout(set = 0, binding = 2) uniform sampler2D uDepth0;  // this eye's depth (te
 layout(set = 0, binding = 3) uniform sampler2D uDepth1;  // other eye's depth
 layout(set = 0, binding = 4, rgba16f) uniform writeonly image2D uHistOut;
 layout(set = 0, binding = 5, OUT_FORMAT) uniform writeonly image2D uOut;
+layout(set = 0, binding = 8, rgba8) uniform writeonly image2D uHistOut8;  // UNORM view of the 8-bit history
 
 // This eye's input as the app submitted it: the alpha of every output (alphaOf). The history's
 // alpha is the temporal method's own (steady: its sample count).
@@ -84,6 +92,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float steadyInvBlurBudgetPx2;  // steady: 1 / blur budget (0 = no bound)
   float steadyFootprint;         // steady: k of the [k, 1 - 2k, k]^2 footprint filter (0 = off)
   float steadyFootprintEncoded;  // steady: 1 = that filter on square roots, 0 = in linear light
+  uint ditherSeed;               // the 8-bit history's dither: changes every frame (storeHistory)
 } P;
 
 vec3 sanitize(vec3 c) {
@@ -92,17 +101,19 @@ vec3 sanitize(vec3 c) {
   return clamp(mix(c, vec3(0.0), bad), vec3(0.0), vec3(65000.0));
 }
 
-vec3 fetchSrc0(ivec2 p) {
+// The alpha comes along unsanitised (only alphaOf's use of it is exact: unjittered).
+vec4 fetchSrc0Rgba(ivec2 p) {
   p = clamp(p, ivec2(0), P.src0Size - 1);
-  vec3 c;
+  vec4 c;
   if (kJitter) {  // un-jitter: bilinear at our pixel centre on src0's grid, inside its rect
     vec2 q = clamp(vec2(p) + 0.5 - P.jitterPx, vec2(0.5), vec2(P.src0Size) - 0.5);
-    c = textureLod(uSrc0, (vec2(P.src0Offset) + q) * P.src0InvExtent, 0.0).rgb;
+    c = textureLod(uSrc0, (vec2(P.src0Offset) + q) * P.src0InvExtent, 0.0);
   } else {
-    c = texelFetch(uSrc0, P.src0Offset + p, 0).rgb;
+    c = texelFetch(uSrc0, P.src0Offset + p, 0);
   }
-  return (kCleanSrc & 1) != 0 ? c : sanitize(c);
+  return vec4((kCleanSrc & 1) != 0 ? c.rgb : sanitize(c.rgb), c.a);
 }
+vec3 fetchSrc0(ivec2 p) { return fetchSrc0Rgba(p).rgb; }
 
 // On a CPU device every pass but fxaa runs 4x4 pixels per invocation (kBlocked): the sixteen 3x3
 // neighbourhoods of temporal and stereo share one 6x6 block of src0 fetches (36 instead of 144),
@@ -121,10 +132,16 @@ vec3 gBlock[6 * 6];  // (kBlockW + 2) * (kBlockH + 2) at most
 // and windows from them costs a third of summing nine taps per pixel.
 vec3 gCol1[6 * 4], gCol2[6 * 4], gColX[6 * 4];
 vec3 crossProducts(vec3 c) { return vec3(c.r * c.g, c.r * c.b, c.g * c.b); }
+// src0's alpha at the block's own pixels: in the temporal pass src0 is the app's input, so an
+// unjittered fetch there is alphaOf's (blockAlphaOf), and the output needs no fetch of its own.
+float gAlpha[4 * 4];
 void loadBlock(ivec2 base, bool withCross) {
   [[unroll]] for (int j = 0; j < kBlockH + 2; ++j)
-    [[unroll]] for (int i = 0; i < kTileW; ++i)
-      gBlock[j * kTileW + i] = fetchSrc0(base + ivec2(i - 1, j - 1));
+    [[unroll]] for (int i = 0; i < kTileW; ++i) {
+      vec4 texel = fetchSrc0Rgba(base + ivec2(i - 1, j - 1));
+      gBlock[j * kTileW + i] = texel.rgb;
+      if (i >= 1 && i <= kBlockW && j >= 1 && j <= kBlockH) gAlpha[(j - 1) * kBlockW + (i - 1)] = texel.a;
+    }
   [[unroll]] for (int r = 0; r < kBlockH; ++r)
     [[unroll]] for (int i = 0; i < kTileW; ++i) {
       vec3 a = gBlock[r * kTileW + i], b = gBlock[(r + 1) * kTileW + i], c = gBlock[(r + 2) * kTileW + i];
@@ -168,11 +185,30 @@ void windowSums(ivec2 o, bool withCross, out vec3 s1, out vec3 s2, out vec3 sx) 
     processPixel(base + ivec2(3, 3), ivec2(3, 3)); \
   }
 
+// The 8-bit history's texel at integer texel coords t: linear colour (the square of the stored
+// value) and the alpha as stored.
+vec4 history8Texel(ivec2 t) {
+  vec4 v = texelFetch(uSrc1, P.src1Offset + clamp(t, ivec2(0), P.src1Size - 1), 0);
+  return vec4(v.rgb * v.rgb, v.a);
+}
+// Bilinear tap of src1 at normalised coords uv. The 8-bit history is filtered after decoding (four
+// texel fetches): filtering sqrt-encoded texels and squaring would darken every edge a little on
+// each sub-pixel reprojection (by f(1-f)(sqrt a - sqrt b)^2), and the history feeds back.
+vec4 tapSrc1(vec2 uv) {
+  if (kHistoryEncoding == 0) return textureLod(uSrc1, uv, 0.0);
+  vec2 pos = uv / P.src1InvExtent - vec2(P.src1Offset) - 0.5;  // texel centres at integers
+  ivec2 t = ivec2(floor(pos));
+  vec2 f = pos - vec2(t);
+  vec4 top = mix(history8Texel(t), history8Texel(t + ivec2(1, 0)), f.x);
+  vec4 bottom = mix(history8Texel(t + ivec2(0, 1)), history8Texel(t + ivec2(1, 1)), f.x);
+  return mix(top, bottom, f.y);
+}
+
 // Bilinear sample of src1 at continuous pixel coords q (pixel centres at +0.5) of its rect.
 // The alpha comes along unsanitised: only the history's (our own, finite) alpha is ever used.
 vec4 sampleSrc1Rgba(vec2 q) {
   q = clamp(q, vec2(0.5), vec2(P.src1Size) - 0.5);
-  vec4 c = textureLod(uSrc1, (vec2(P.src1Offset) + q) * P.src1InvExtent, 0.0);
+  vec4 c = tapSrc1((vec2(P.src1Offset) + q) * P.src1InvExtent);
   return vec4((kCleanSrc & 2) != 0 ? c.rgb : sanitize(c.rgb), c.a);
 }
 vec3 sampleSrc1(vec2 q) { return sampleSrc1Rgba(q).rgb; }
@@ -237,8 +273,41 @@ float alphaOf(ivec2 p) {
   return texelFetch(uAppInput, P.appInputOffset + clamp(p, ivec2(0), P.src0Size - 1), 0).a;
 }
 
+// Uniform in [0, 1) per pixel and frame (ditherSeed changes every frame): hash "lowbias32"
+// (Chris Wellons, hash-prospector) of the pixel and the seed.
+float ditherThreshold(ivec2 p) {
+  uint h = uint(p.x) * 0x8da6b343u ^ uint(p.y) * 0xd8163841u ^ P.ditherSeed * 0xcb1ab31fu;
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return float(h >> 8) * (1.0 / 16777216.0);
+}
+
+// Stores a history texel: linear c and the method's count (steady's sample count; 1 otherwise).
+// The 8-bit history holds sqrt(c) (levels about as fine as sRGB's over [0, 1], finer near black;
+// decoded by a multiply, so write and read are exact inverses on every device, which an sRGB view
+// is not: lavapipe's sRGB decode is off by ~2 % in the dark, and the history feeds that back
+// 1/alpha = 16 times over) and count * countScale8 in [0, 1] (steady: count / its cap).
+// The rounding is dithered: a blend step alpha * |cur - hist| under half a level (alpha = 1/16:
+// eight levels apart) would round back to the old level every frame and stall. Level k + 1 is
+// taken with the probability that makes the expected decoded value c exactly (the levels decode
+// to k^2 and (k+1)^2), so the history follows in expectation.
+void storeHistory(ivec2 p, vec3 c, float count, float countScale8) {
+  if (kHistoryEncoding == 0) {
+    imageStore(uHistOut, p, vec4(c, count));
+  } else {
+    vec3 v = clamp(c, 0.0, 1.0) * (255.0 * 255.0);  // in squared levels
+    vec3 k = min(floor(sqrt(v)), vec3(254.0));
+    vec3 up = kHistoryEncoding == 1 ? step(vec3(ditherThreshold(p)), (v - k * k) / (2.0 * k + 1.0))
+                                    : step(vec3(k + 0.5), sqrt(v));
+    imageStore(uHistOut8, p, vec4((k + up) * (1.0 / 255.0), clamp(count * countScale8, 0.0, 1.0)));
+  }
+}
+
 // After fxaa the history is only the stereo pass's src0; its alpha goes unread.
-void writeHistory(ivec2 p, vec3 c) { imageStore(uHistOut, p, vec4(c, 1.0)); }
+void writeHistory(ivec2 p, vec3 c) { storeHistory(p, c, 1.0, 1.0); }
 
 // o: linear RGBA; encoded for an sRGB target (alpha is linear in every format, never encoded).
 void storeOutput(ivec2 p, vec4 o) {
@@ -251,6 +320,8 @@ void storeOutput(ivec2 p, vec4 o) {
 }
 
 void writeOutput(ivec2 p, vec3 c) { storeOutput(p, vec4(c, alphaOf(p))); }
+// alphaOf(p) for block pixel o of a pass whose src0 is the app's input (after loadBlock).
+float blockAlphaOf(ivec2 p, ivec2 o) { return kJitter ? alphaOf(p) : gAlpha[o.y * kBlockW + o.x]; }
 
 // Reprojects pixel centre p (with 1/z) through matrix m; returns false when behind or outside.
 bool reproject(mat4 m, vec2 pc, float invZ, out vec2 q, out float invZOther) {

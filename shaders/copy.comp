@@ -10,7 +10,7 @@ void processPixel(ivec2 p, ivec2 o) {
   // only the history, which later passes blend, is sanitised.
   vec4 texel = texelFetch(uSrc0, P.src0Offset + clamp(p, ivec2(0), P.src0Size - 1), 0);
   if (inRange) {
-    if (kWriteHist) imageStore(uHistOut, p, vec4((kCleanSrc & 1) != 0 ? texel.rgb : sanitize(texel.rgb), texel.a));
+    if (kWriteHist) storeHistory(p, (kCleanSrc & 1) != 0 ? texel.rgb : sanitize(texel.rgb), texel.a, 1.0);
     if (kWriteOut) storeOutput(p, texel);
   }
 }

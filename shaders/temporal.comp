@@ -1,8 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Temporal passes: taa (mode 0), hmtaa (1), vtaa (2), hybrid (3), steady (4). Writes the new
-// history (RGBA16F, linear light; steady keeps its per-pixel sample count in the alpha) and, when
-// no stereo pass follows, the output.
+// history (RGBA16F or RGBA8 sqrt-encoded: storeHistory; steady keeps its per-pixel sample count in the
+// alpha) and, when no stereo pass follows, the output.
 #include "common.glsl"
 
 const int kTaa = 0;
@@ -122,7 +122,7 @@ void processPixel(ivec2 p, ivec2 o) {
     float t2 = max(t2v.x, max(t2v.y, t2v.z));
     vec3 h = t2 > 1.0 ? ymn + d * inversesqrt(t2) : ymn + d;
     const float cap = 1.0 / P.steadyAlphaFloor;
-    float n = confirmed ? clamp(hs.a, 0.0, cap) : 0.0;
+    float n = confirmed ? clamp(kHistoryEncoding != 0 ? hs.a * cap : hs.a, 0.0, cap) : 0.0;  // storeHistory
     n *= t2 > 1.0 ? mix(1.0, 1.0 / t2, P.steadyClipRejects) : 1.0;
     float a = max(1.0 / (n + 1.0), P.steadyAlphaFloor);
     vec2 f = fract(q - 0.5);                // bilinear tap offset within the texel
@@ -179,8 +179,8 @@ void processPixel(ivec2 p, ivec2 o) {
   result = clamp(result, vec3(0.0), vec3(65000.0));  // stays finite in half precision
   if (inRange) {
     // The history's alpha is steady's sample count; the output's alpha is the app's (alphaOf).
-    if (kWriteHist) imageStore(uHistOut, p, vec4(result, count));
-    if (kWriteOut) writeOutput(p, result);
+    if (kWriteHist) storeHistory(p, result, count, P.steadyAlphaFloor);  // 8-bit: steady's count / its cap
+    if (kWriteOut) storeOutput(p, vec4(result, neighbourhood ? blockAlphaOf(p, o) : alphaOf(p)));
   }
 }
 

@@ -278,6 +278,7 @@ TEST_F(Cli, EverythingItWritesTheLayerAccepts) {
                                                    {"jitter", "on"},
                                                    {"sample_count", "2"},
                                                    {"history_filter", "catmull-rom"},
+                                                   {"history_format", "rgba8"},
                                                    {"taa_alpha", "0.2"},
                                                    {"taa_clip_gamma", "1.5"},
                                                    {"h_max", "30"},

@@ -52,7 +52,8 @@ environment variables of an app win over the file.
 keys: enabled, method (none, fxaa, taa, hmtaa, vtaa, hybrid, stereo, <temporal>+stereo,
 default), pose_source, imu_device, log_level, log_file, dump_frames, dump_dir, jitter,
 taa_alpha, taa_clip_gamma, h_max, w_min, w_lb, sample_count, vtaa_alpha_min, stereo_far_m,
-stereo_depth_tolerance, stereo_beta_min, reset_angle_deg, reset_translation_m, history_filter.
+stereo_depth_tolerance, stereo_beta_min, reset_angle_deg, reset_translation_m, history_filter,
+history_format.
 
 exit status: 0 done, 1 error (config untouched), 2 usage error.
 )";

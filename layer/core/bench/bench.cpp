@@ -1,6 +1,7 @@
 // steadyxr-bench: GPU ms per stereo frame (Vulkan timestamp queries) of each pass and of the
 // default pipeline, beside a plain copy pass measured in the same run, plus the host (CPU) time
-// of the per-frame work in submit(). Figures, not a test.
+// of the per-frame work in submit(). Figures, not a test. Beside each: the bytes per pixel of the
+// traffic model (traffic_model.h) and its ratio to the copy's.
 #include <vulkan/vulkan.h>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -22,6 +24,7 @@
 #include "steadyxr/core/filter.h"
 #include "steadyxr/core/params.h"
 #include "steadyxr/core/vulkan_context.h"
+#include "traffic_model.h"
 
 using namespace steadyxr::core;
 
@@ -42,7 +45,10 @@ void usage() {
                "                      [--warmup N] [--format srgb8|unorm8|rgba16f] [--csv FILE]\n"
                "                      [--block auto|1x1|4x4]\n"
                "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to (measured\n"
-               "first and last at each size; the faster of the two is used). <method>@catmull: the\n"
+               "first and last at each size; the faster of the two is used). A method may end in\n"
+               "@history=16 or @history=8 (the history's bits per channel, Params::historyFormat).\n"
+               "'model' is the traffic model's bytes per pixel of one eye (traffic_model.h) and its\n"
+               "ratio to the copy's; 'ops' its fetches+samples+stores per pixel. <method>@catmull: the\n"
                "method with the Catmull-Rom history.\n";
 }
 
@@ -231,7 +237,25 @@ struct Row {
   double gpuMs, copyMs, hostUs, hostCpuUs;
   double gpuMinMs, copyMinMs;  // minimum over iterations: less sensitive to a shared, loaded CPU
   double cpuMs, copyCpuMs;     // process CPU ms per frame (lavapipe's work), median
+  steadyxr::bench::Traffic model;
 };
+
+// "name" or "name@history=16|8": the method's parameters.
+std::optional<Params> methodParams(const std::string& spec) {
+  const size_t at = spec.find('@');
+  auto params = applyMethodName(spec.substr(0, at));
+  if (!params || at == std::string::npos) return params;
+  const std::string suffix = spec.substr(at + 1);
+  if (suffix == "history=16")
+    params->historyFormat = HistoryFormat::Rgba16f;
+  else if (suffix == "history=8")
+    params->historyFormat = HistoryFormat::Rgba8Dithered;
+  else if (suffix == "catmull")  // the steady candidate's cost (README, "The worst frames")
+    params->historyFilter = HistoryFilter::CatmullRom;
+  else
+    return std::nullopt;
+  return params;
+}
 
 }  // namespace
 
@@ -269,18 +293,19 @@ int main(int argc, char** argv) {
     methods.push_back("none");
     struct Measured {
       double gpuMs, gpuMinMs, cpuMs, hostUs, hostCpuUs;
+      steadyxr::bench::Traffic model;
     };
     std::vector<Measured> measured;
     for (const std::string& m : methods) {
-      // "<method>@catmull": the same with the Catmull-Rom history (HistoryFilter::CatmullRom).
-      const bool catmull = m.size() > 8 && m.ends_with("@catmull");
-      auto params = applyMethodName(catmull ? m.substr(0, m.size() - 8) : m);
-      if (params && catmull) params->historyFilter = HistoryFilter::CatmullRom;
+      auto params = methodParams(m);
       if (!params) {
         std::cerr << "unknown method " << m << "\n";
         return 2;
       }
       params->invocationBlock = opt.block;
+      const bool blocked = opt.block == InvocationBlock::FourByFour ||
+                           (opt.block == InvocationBlock::Auto && ctx->isCpuDevice());
+      const steadyxr::bench::Traffic model = steadyxr::bench::modelTraffic(*params, opt.format, blocked);
       auto filter = Filter::create(*ctx, *params, &err);
       if (!filter) {
         std::cerr << "steadyxr-bench: " << err << "\n";
@@ -325,7 +350,7 @@ int main(int argc, char** argv) {
         filter->forgetImage(in[e]->image());
         filter->forgetImage(out[e]->image());
       }
-      measured.push_back({median(gpu), minimum(gpu), median(cpu), median(host), median(hostCpu)});
+      measured.push_back({median(gpu), minimum(gpu), median(cpu), median(host), median(hostCpu), model});
     }
     const Measured& floorFirst = measured.front();
     const Measured& floorLast = measured.back();
@@ -334,13 +359,17 @@ int main(int argc, char** argv) {
     for (size_t k = 0; k + 1 < methods.size(); ++k) {
       const Measured& me = k == 0 ? floor : measured[k];
       rows.push_back({size, k == 0 ? "copy (none)" : methods[k], me.gpuMs, floor.gpuMs, me.hostUs,
-                      me.hostCpuUs, k == 0 ? copyMinMs : me.gpuMinMs, copyMinMs, me.cpuMs, floor.cpuMs});
+                      me.hostCpuUs, k == 0 ? copyMinMs : me.gpuMinMs, copyMinMs, me.cpuMs, floor.cpuMs,
+                      me.model});
       const Row& r = rows.back();
+      const steadyxr::bench::Traffic& copyModel = floor.model;
       std::printf(
-          "%5ux%-5u %-14s gpu %8.3f ms x%5.2f copy | min %8.3f ms x%5.2f | cpu %8.3f ms x%5.2f | host %7.1f "
-          "us (thread cpu %5.1f)\n",
+          "%5ux%-5u %-18s gpu %8.3f ms x%5.2f copy | model %4.1f B/px x%4.2f, ops %5.2f | "
+          "min %8.3f ms x%5.2f | cpu %8.3f ms x%5.2f | host %7.1f us (thread cpu %5.1f)\n",
           size.width, size.height, r.method.c_str(), r.gpuMs, r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0,
-          r.gpuMinMs, r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0, r.cpuMs,
+          r.model.total(), r.model.total() / copyModel.total(),
+          r.model.fetches + r.model.samples + r.model.stores, r.gpuMinMs,
+          r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0, r.cpuMs,
           r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0, r.hostUs, r.hostCpuUs);
     }
     std::printf("%5ux%-5u copy measured first %.3f ms, last %.3f ms (median)\n", size.width, size.height,
@@ -348,24 +377,27 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   }
   std::printf(
-      "\n| per-eye size | method | GPU ms/stereo frame (median) | x copy | GPU ms (min) | x copy (min) | CPU "
-      "ms (lavapipe) | x copy (CPU) | host us | host us (thread CPU) |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+      "\n| per-eye size | method | GPU ms/stereo frame (median) | x copy | model B/px (read+write) | "
+      "model x copy | GPU ms (min) | x copy (min) | CPU ms (lavapipe) | x copy (CPU) | host us | "
+      "host us (thread CPU) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  const double copyBytes = 2.0 * (opt.format == VK_FORMAT_R16G16B16A16_SFLOAT ? 8.0 : 4.0);
   for (const Row& r : rows)
-    std::printf("| %ux%u | %s | %.3f | %.2f | %.3f | %.2f | %.3f | %.2f | %.1f | %.1f |\n", r.size.width,
-                r.size.height, r.method.c_str(), r.gpuMs, r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0, r.gpuMinMs,
-                r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0, r.cpuMs,
-                r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0, r.hostUs, r.hostCpuUs);
+    std::printf("| %ux%u | %s | %.3f | %.2f | %.0f+%.0f | %.2f | %.3f | %.2f | %.3f | %.2f | %.1f | %.1f |\n",
+                r.size.width, r.size.height, r.method.c_str(), r.gpuMs,
+                r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0, r.model.readBytes, r.model.writeBytes,
+                r.model.total() / copyBytes, r.gpuMinMs, r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0,
+                r.cpuMs, r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0, r.hostUs, r.hostCpuUs);
   if (!opt.csv.empty()) {
     std::ofstream csv(opt.csv);
     csv << "width,height,method,gpu_ms,copy_ms,ratio_to_copy,gpu_min_ms,copy_min_ms,ratio_min,cpu_ms,copy_"
-           "cpu_ms,ratio_cpu,host_us,host_cpu_us\n";
+           "cpu_ms,ratio_cpu,host_us,host_cpu_us,model_bytes_per_px\n";
     for (const Row& r : rows)
       csv << r.size.width << "," << r.size.height << "," << r.method << "," << r.gpuMs << "," << r.copyMs
           << "," << (r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0) << "," << r.gpuMinMs << "," << r.copyMinMs
           << "," << (r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0) << "," << r.cpuMs << "," << r.copyCpuMs
           << "," << (r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0) << "," << r.hostUs << "," << r.hostCpuUs
-          << "\n";
+          << "," << r.model.total() << "\n";
     if (!csv) {
       std::cerr << "could not write " << opt.csv << "\n";
       return 1;

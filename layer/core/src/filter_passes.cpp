@@ -77,6 +77,10 @@ PassDispatch firstStage(const PassContext& c, uint32_t e, Pass pass) {
   d.io.src0 = c.plan.inputs[e];
   d.io.appInput = c.plan.inputs[e];
   d.io.historyOut = d.switches.writeHistory ? c.eyes[e].history[c.historyWrite].view.get() : VK_NULL_HANDLE;
+  // The history's format (historyFormat) decides how it is written and read back.
+  const bool history8 = c.eyes[e].history[0].format == VK_FORMAT_R8G8B8A8_UNORM;
+  d.switches.historyEncoding = !history8 ? 0 : c.params.historyFormat == HistoryFormat::Rgba8Nearest ? 2 : 1;
+  d.uniforms.ditherSeed = c.ditherSeed;
   d.io.output = stereo ? VK_NULL_HANDLE : c.plan.targets[e].view;
   return d;
 }
@@ -201,7 +205,8 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
           temporal && params.historyFilter == HistoryFilter::CatmullRom ? 1 : 0,
           blocked ? 1 : 0,
           static_cast<int32_t>(groupX),
-          static_cast<int32_t>(groupY)};
+          static_cast<int32_t>(groupY),
+          sw.historyEncoding};
 }
 
 }  // namespace steadyxr::core::detail

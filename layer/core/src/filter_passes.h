@@ -28,6 +28,7 @@ struct PassSwitches {
   bool encodeSrgb = false;
   bool swapRedBlue = false;
   int32_t depthBits = 0;  // bit0: this eye's depth, bit1: the other eye's
+  int32_t historyEncoding = 0;  // kHistoryEncoding: 0 RGBA16F, 1 RGBA8 dithered, 2 RGBA8 nearest
 };
 
 // An image a pass samples.
@@ -43,7 +44,7 @@ struct PassIo {
   Binding src1;                             // 1: the history (temporal) or the other eye (stereo)
   Binding depth0;                           // 2: this eye's depth
   Binding depth1;                           // 3: the other eye's depth
-  VkImageView historyOut = VK_NULL_HANDLE;  // 4: this frame's history
+  VkImageView historyOut = VK_NULL_HANDLE;  // 4 (RGBA16F) or 8 (RGBA8): this frame's history
   VkImageView output = VK_NULL_HANDLE;      // 5: the output (or its scratch image)
   Binding appInput;                         // 7: the app's input of this eye (every output's alpha)
 };
@@ -88,6 +89,7 @@ struct PassContext {
   const FramePlan& plan;
   const std::array<EyeState, 2>& eyes;
   uint32_t historyWrite;  // eyes[e].history[historyWrite] is written this frame, the other read
+  uint32_t ditherSeed;    // the 8-bit history's dither, new every frame (common.glsl storeHistory)
 };
 
 // The first stage of eye e: the app's input through copy, fxaa or a temporal method into this

@@ -171,15 +171,19 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
   };
   const PassIo& io = d.io;
   const VkImageView outDummy = d.fmt == kOut8 ? dummy8.view.get() : dummy16.view.get();
+  const bool history8 = d.switches.historyEncoding != 0;
   std::array<VkDescriptorImageInfo, kBindings> ii{{
       sampled(sampler.get(), io.src0),
       sampled(sampler.get(), io.src1),
       sampled(samplerNearest.get(), io.depth0),
       sampled(samplerNearest.get(), io.depth1),
-      {VK_NULL_HANDLE, io.historyOut ? io.historyOut : dummy16.view.get(), VK_IMAGE_LAYOUT_GENERAL},
+      {VK_NULL_HANDLE, io.historyOut && !history8 ? io.historyOut : dummy16.view.get(),
+       VK_IMAGE_LAYOUT_GENERAL},
       {VK_NULL_HANDLE, io.output ? io.output : outDummy, VK_IMAGE_LAYOUT_GENERAL},
       {},  // 6: the uniform buffer
       sampled(samplerNearest.get(), io.appInput),
+      {VK_NULL_HANDLE, io.historyOut && history8 ? io.historyOut : dummy8.view.get(),
+       VK_IMAGE_LAYOUT_GENERAL},
   }};
   const VkDescriptorBufferInfo bi{s.ubo.get(), offset, sizeof(PassUniforms)};
   std::array<VkWriteDescriptorSet, kBindings> w{};

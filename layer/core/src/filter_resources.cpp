@@ -145,7 +145,7 @@ bool Filter::Impl::init(std::string* error) {
     s.fence = Unique<VkFence>(device, fence);
     std::array<VkDescriptorPoolSize, 3> sizes{{
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 5 * kMaxDispatches},
-        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * kMaxDispatches},
+        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 3 * kMaxDispatches},
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kMaxDispatches},
     }};
     VkDescriptorPoolCreateInfo dpci{};

@@ -20,12 +20,12 @@ constexpr uint32_t kQueries = 4;
 
 // The one descriptor set layout of every pass (common.glsl): 0-3 samplers (src0, src1, depth0,
 // depth1), 4-5 storage images (history out, output), 6 the uniforms, 7 a sampler (the app's
-// input of this eye, whose alpha every output carries).
-constexpr uint32_t kBindings = 8;
+// input of this eye, whose alpha every output carries), 8 the 8-bit history out.
+constexpr uint32_t kBindings = 9;
 constexpr VkDescriptorType descriptorType(uint32_t binding) {
-  return binding < 4 || binding == 7 ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
-         : binding < 6               ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
-                                     : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+  return binding < 4 || binding == 7   ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+         : binding < 6 || binding == 8 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+                                       : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
 }
 
 struct OwnedImage {

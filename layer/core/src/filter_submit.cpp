@@ -109,15 +109,16 @@ bool Filter::Impl::checkInputs(const StereoFrame& frame, const StereoOutput& out
 
 bool Filter::Impl::prepareEyes(const StereoFrame& frame, FramePlan& plan, std::string* error) {
   const uint32_t n = plan.viewCount;
-  // Internal images follow the rect size; a size change drops the history.
+  // Internal images follow the rect size and the history format; a change drops the history.
   for (uint32_t e = 0; e < n; ++e) {
     EyeState& eye = eyes[e];
     const VkExtent2D size = frame.views[e].color.rect.extent;
-    if (!eye.history[0].image || !sameExtent(eye.size, size)) {
+    const VkFormat histFormat = historyFormat(params, frame.views[e].color.format);
+    if (!eye.history[0].image || !sameExtent(eye.size, size) || eye.history[0].format != histFormat) {
       waitAll();
       const VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
       for (auto& h : eye.history) {
-        if (!createImage(h, size, VK_FORMAT_R16G16B16A16_SFLOAT, usage, error)) return false;
+        if (!createImage(h, size, histFormat, usage, error)) return false;
       }
       for (auto& sc : eye.scratch) sc = OwnedImage{};
       eye.size = size;
@@ -196,7 +197,7 @@ bool Filter::Impl::bindTargets(const StereoFrame& frame, const StereoOutput& out
 bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoOutput& output,
                                 const FramePlan& plan, std::string* error) {
   Recording rec{s};
-  const PassContext c{frame, output, params, plan, eyes, historyIndex};
+  const PassContext c{frame, output, params, plan, eyes, historyIndex, static_cast<uint32_t>(frameCounter)};
   bool ok = true;
   if (plan.firstStage) {
     for (uint32_t e = 0; e < plan.viewCount && ok; ++e) {
@@ -254,6 +255,12 @@ void Filter::Impl::advanceEyes(const StereoFrame& frame, const FramePlan& plan) 
     }
   }
   historyIndex ^= 1u;
+}
+
+VkFormat historyFormat(const Params& params, VkFormat inputFormat) {
+  const bool history8 = params.historyFormat != HistoryFormat::Rgba16f && !params.stereo &&
+                        params.historyFilter == HistoryFilter::Bilinear && isUnorm8(inputFormat);
+  return history8 ? VK_FORMAT_R8G8B8A8_UNORM : VK_FORMAT_R16G16B16A16_SFLOAT;
 }
 
 }  // namespace steadyxr::core

@@ -113,9 +113,9 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_footprint_encoded", &core::Params::steadyFootprintEncoded},
 };
 
-constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source",   "imu_device",
-                                      "log_level", "log_file",     "dump_frames",   "dump_dir",
-                                      "jitter",    "sample_count", "history_filter"};
+constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source",    "imu_device",
+                                      "log_level", "log_file",     "dump_frames",    "dump_dir",
+                                      "jitter",    "sample_count", "history_filter", "history_format"};
 
 std::string formatFloat(float f) {
   std::ostringstream os;
@@ -212,6 +212,15 @@ void applyKey(Config& c, const std::string& key, const std::string& value, const
       c.params.historyFilter = core::HistoryFilter::CatmullRom;
     else
       bad(sink, origin, value, "bilinear or catmull-rom", "bilinear");
+  } else if (key == "history_format") {
+    const std::string l = lower(value);
+    if (l == "rgba16f")
+      c.params.historyFormat = core::HistoryFormat::Rgba16f;
+    else if (l == "rgba8")
+      c.params.historyFormat = core::HistoryFormat::Rgba8Dithered;
+    else
+      bad(sink, origin, value, "rgba16f or rgba8",
+          defaults.params.historyFormat == core::HistoryFormat::Rgba16f ? "rgba16f" : "rgba8");
   } else if (key == "sample_count") {
     if (auto n = parseCount(value); n && *n >= 1 && *n <= core::Params::kMaxSamples)
       c.params.sampleCount = *n;

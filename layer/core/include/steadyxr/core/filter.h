@@ -12,6 +12,12 @@
 
 namespace steadyxr::core {
 
+// The format of the history images for this input format: R8G8B8A8_UNORM (sqrt-encoded, decoded
+// by the temporal pass: common.glsl storeHistory) for an 8-bit history of an 8-bit input without
+// the stereo pass (which reads the history as it is) and with the bilinear history filter, else
+// RGBA16F.
+VkFormat historyFormat(const Params& params, VkFormat inputFormat);
+
 // Input images need VK_IMAGE_USAGE_SAMPLED_BIT. Output images need VK_IMAGE_USAGE_STORAGE_BIT
 // (with a storage-capable format, or mutableFormat so the core can make a UNORM view of an SRGB
 // image) or else VK_IMAGE_USAGE_TRANSFER_DST_BIT (the core then writes an intermediate image and

@@ -35,6 +35,18 @@ enum class HistoryFilter : uint8_t {
 
 enum class InvocationBlock : uint8_t { Auto, OnePixel, FourByFour };
 
+// How the temporal passes store their history (README, "Cost of the passes": the format study).
+enum class HistoryFormat : uint8_t {
+  Rgba16f,  // 8 bytes per texel, linear light; the sample count in the alpha as is
+  // 4 bytes: RGBA8 holding sqrt of linear colour with dithered rounding (a per-pixel, per-frame
+  // threshold, so a blend step under half a level still moves the history in expectation instead
+  // of stalling), decoded before bilinear filtering; the sample count in the alpha as a fraction
+  // of its cap. Used for 8-bit inputs, without the stereo pass and with the bilinear history
+  // filter only (filter.h, historyFormat): a float input may exceed [0, 1].
+  Rgba8Dithered,
+  Rgba8Nearest,  // as Rgba8Dithered with round-to-nearest: the stall, for the format study only
+};
+
 struct Params {
   TemporalMethod temporal = kDefaultTemporalMethod;
   bool stereo = kDefaultStereo;  // stereo blending after the temporal pass (display only)
@@ -116,6 +128,7 @@ struct Params {
   float stereoBetaMin = 0.9f;
 
   HistoryFilter historyFilter = HistoryFilter::Bilinear;
+  HistoryFormat historyFormat = HistoryFormat::Rgba16f;
 
   // The caller jitters the render (ViewFrame::jitterPx): every frame, also one with a jitter of 0,
   // goes through the un-jittering fetch (bilinear at c - jitter; at 0 it reads the texel exactly),
