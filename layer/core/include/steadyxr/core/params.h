@@ -126,6 +126,12 @@ struct Params {
   // the eyes of the thin-geometry scene closer together than ground truth's are (stereo gap
   // +177 %, RMSE +0.6 %); 0.9 brings every scenario's stereo difference closer to ground truth's.
   float stereoBetaMin = 0.9f;
+  // After steady: beta from the two eyes' error variances instead of Eq. 4 (stereo.comp). Each
+  // eye's estimate of the pixel's area average errs like a sample displaced over the pixel's own
+  // box (1/6 px^2) divided by its sample count; the other eye's reprojected estimate adds its
+  // bilinear tap's f(1-f) px^2 per axis and, without depth, the disparity's spread. Inverse-variance
+  // weights: beta = var_other / (var_this + var_other). The seed methods keep Eq. 4.
+  bool stereoInverseVariance = true;
 
   HistoryFilter historyFilter = HistoryFilter::Bilinear;
   HistoryFormat historyFormat = HistoryFormat::Rgba16f;
