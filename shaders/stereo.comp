@@ -16,8 +16,8 @@ const float kFootprintVarPx2 = 1.0 / 6.0;
 // Both eyes' estimates of the same surface point err independently, each like a sample displaced
 // over the pixel's box divided by its sample count n; the other eye's estimate also went through
 // a bilinear tap (f(1-f) px^2 per axis) and, without depth, a disparity known only within its
-// spread. A displacement of variance v errs by about |grad|^2 v on any signal, so |grad|^2
-// cancels: equal counts and an exact tap give 1/2; a spread over a pixel gives ~1.
+// spread. A displacement of variance v errs by about |grad|^2 v on a locally linear signal, so
+// |grad|^2 cancels: equal counts and an exact tap give 1/2.
 float stereoBeta(vec3 x, vec3 mn, float sigma2, ivec2 o, float otherAlpha, vec2 q) {
   vec3 d = x - mn;
   float e = dot(d, d) * (1.0 / 3.0) + sigma2;
@@ -27,7 +27,9 @@ float stereoBeta(vec3 x, vec3 mn, float sigma2, ivec2 o, float otherAlpha, vec2 
   vec2 f = fract(q - 0.5);  // the bilinear tap's offset within the texel
   float varThis = kFootprintVarPx2 / countThis;
   float varOther = kFootprintVarPx2 / countOther + dot(f, 1.0 - f) + P.stereoDisparitySpreadPx2;
-  float betaInverseVariance = varOther / (varThis + varOther);
+  // The model linearises the signal over the displacement; a disparity known only to more than a
+  // pixel (no depth, a near surface possible) points at another surface point: no blend.
+  float betaInverseVariance = P.stereoDisparitySpreadPx2 > 1.0 ? 1.0 : varOther / (varThis + varOther);
   return P.stereoInverseVariance > 0.5 ? betaInverseVariance : betaEq4;
 }
 
