@@ -327,3 +327,61 @@ TEST_F(CoreTest, SeparateStereoPassAfterTemporalMatchesReference) {
     EXPECT_LE(d.maxAbs, 0.08f) << "eye " << e;
   }
 }
+
+// Stereo after steady: beta from the eyes' error variances (each history's sample count, the
+// bilinear tap, the disparity's spread without depth) agrees with the reference written from
+// that equation, applied to steady's reference result of this frame. Two frames, so the counts
+// and tap offsets differ across the image; a box before a wall with depth, a plane without.
+class SteadyStereoReference : public CoreTest, public ::testing::WithParamInterface<bool> {};
+
+TEST_P(SteadyStereoReference, MatchesCpuReference) {
+  const bool withDepth = GetParam();
+  const uint32_t W = 48, H = 40;
+  Params base;
+  base.stereoFarDistanceM = 0.8f;  // without depth a near plane: a spread under a pixel blends
+  const Params p = *applyMethodName("steady+stereo", base);
+  ASSERT_TRUE(p.stereoInverseVariance);
+  auto f = makeFilter("steady+stereo", base);
+  auto alone = makeFilter("steady", base);
+  Rig rig(W, H);
+  Frame f1, f2;
+  f1.views = {eye(0.0f, 0.0f, {-0.032f, 0, 0}), eye(0.0f, 0.0f, {0.032f, 0, 0})};
+  f1.color = {pattern(W, H, 31, 0.08f), pattern(W, H, 32, 0.08f)};
+  f2.views = {eye(0.7f, 0.3f, {-0.032f, 0, 0}), eye(0.7f, 0.3f, {0.032f, 0, 0})};
+  f2.color = {pattern(W, H, 33, 0.08f), pattern(W, H, 34, 0.08f)};
+  if (withDepth) {
+    for (int e = 0; e < 2; ++e) {
+      f1.depth[e] = HostImage(W, H);
+      for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+          const float z = (x > 16 && x < 30 && y > 10 && y < 28) ? 0.5f : 1.5f;
+          f1.depth[e].at(x, y).r = (1.0f / z - 1.0f / 0.1f) / (1.0f / 100.0f - 1.0f / 0.1f);
+        }
+      f2.depth[e] = f1.depth[e];
+    }
+  }
+  rig.run(*f, f1);
+  const auto out2 = rig.run(*f, f2);
+  rig.run(*alone, f1);
+  const auto steadyOnly = rig.run(*alone, f2);
+  std::array<HostImage, 2> temporal;
+  for (int e = 0; e < 2; ++e) {
+    const HostImage first =
+        toHalf(test::steadyRef(p, toHalf(f1.color[e]), HostImage(W, H), false, f1.views[e], f1.views[e],
+                               withDepth ? &f1.depth[e] : nullptr));
+    temporal[e] = toHalf(test::steadyRef(p, toHalf(f2.color[e]), first, true, f1.views[e], f2.views[e],
+                                         withDepth ? &f2.depth[e] : nullptr));
+  }
+  for (int e = 0; e < 2; ++e) {
+    const int o = 1 - e;
+    const HostImage want = test::stereoRef(p, temporal[e], temporal[o], f2.views[e], f2.views[o],
+                                           withDepth ? &f2.depth[e] : nullptr,
+                                           withDepth ? &f2.depth[o] : nullptr, 0.1f, 100.0f, true);
+    const Diff d = compare(out2[e], want);
+    EXPECT_LE(d.meanAbs, 3e-3f) << "eye " << e;
+    EXPECT_LE(d.maxAbs, 0.08f) << "eye " << e;
+    EXPECT_GT(compare(out2[e], steadyOnly[e]).meanAbs, 2e-3f) << "eye " << e << ": the other eye blends in";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Depth, SteadyStereoReference, ::testing::Bool());
