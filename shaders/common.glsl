@@ -93,6 +93,9 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float steadyFootprint;         // steady: k of the [k, 1 - 2k, k]^2 footprint filter (0 = off)
   float steadyFootprintEncoded;  // steady: 1 = that filter on square roots, 0 = in linear light
   uint ditherSeed;               // the 8-bit history's dither: changes every frame (storeHistory)
+  float stereoInverseVariance;     // stereo: 1 = beta by inverse error variance (after steady), 0 = seed 002 Eq. 4
+  float stereoSampleCountScale;    // stereo: src alpha * this = the eye's sample count (>= 1); 0: count 1
+  float stereoDisparitySpreadPx2;  // stereo without this eye's depth: the disparity's spread, px^2
 } P;
 
 vec3 sanitize(vec3 c) {

@@ -3,9 +3,35 @@
 // Stereo blending (seed 002 §4.1/§5.2): the other eye reprojected into this one (depth or a far
 // plane), rejected by a depth check, clipped to this eye's 3x3 colour box mean +- gamma*sigma
 // widened to hold this eye's pixel (gamma = taaClipGamma: a moving object or a depth-check miss
-// cannot pull in a foreign colour), blended with beta from Eq. 4, beta >= stereoBetaMin.
-// Display only.
+// cannot pull in a foreign colour), blended with beta from Eq. 4, beta >= stereoBetaMin; after
+// steady with beta from the eyes' error variances (stereoBeta). Display only.
 #include "common.glsl"
+
+// The variance of a pixel's own one-pixel box footprint, 1/12 + 1/12 px^2: what a single sample
+// errs by, as a displacement, when it stands for the pixel's area average (steady's blur budget).
+const float kFootprintVarPx2 = 1.0 / 6.0;
+
+// Weight of this eye's estimate y against the other eye's x (reprojected, clipped). Seed 002:
+// Eq. 4 with the clamp. After steady: inverse error variances (Params::stereoInverseVariance).
+// Both eyes' estimates of the same surface point err independently, each like a sample displaced
+// over the pixel's box divided by its sample count n; the other eye's estimate also went through
+// a bilinear tap (f(1-f) px^2 per axis) and, without depth, a disparity known only within its
+// spread. A displacement of variance v errs by about |grad|^2 v on a locally linear signal, so
+// |grad|^2 cancels: equal counts and an exact tap give 1/2.
+float stereoBeta(vec3 x, vec3 mn, float sigma2, ivec2 o, float otherAlpha, vec2 q) {
+  vec3 d = x - mn;
+  float e = dot(d, d) * (1.0 / 3.0) + sigma2;
+  float betaEq4 = clamp(e > 1e-12 ? 1.0 - sigma2 / e : 0.0, P.stereoBetaMin, 1.0);
+  float countThis = max(gAlpha[o.y * kBlockW + o.x] * P.stereoSampleCountScale, 1.0);
+  float countOther = max(otherAlpha * P.stereoSampleCountScale, 1.0);
+  vec2 f = fract(q - 0.5);  // the bilinear tap's offset within the texel
+  float varThis = kFootprintVarPx2 / countThis;
+  float varOther = kFootprintVarPx2 / countOther + dot(f, 1.0 - f) + P.stereoDisparitySpreadPx2;
+  // The model linearises the signal over the displacement; a disparity known only to more than a
+  // pixel (no depth, a near surface possible) points at another surface point: no blend.
+  float betaInverseVariance = P.stereoDisparitySpreadPx2 > 1.0 ? 1.0 : varOther / (varThis + varOther);
+  return P.stereoInverseVariance > 0.5 ? betaInverseVariance : betaEq4;
+}
 
 // Branch-free around texture reads, the store skipped past the edge (see PROCESS_BLOCK).
 void processPixel(ivec2 p, ivec2 o) {
@@ -34,12 +60,10 @@ void processPixel(ivec2 p, ivec2 o) {
   }
   // The box always holds this eye's own pixel: identical eyes stay unchanged.
   vec3 dy = y - mn;
-  vec3 x = clipToBox(sampleSrc1(q), mn, max(P.clipGamma * P.clipGamma * var, dy * dy) + 1e-12);
+  vec4 other = sampleSrc1Rgba(q);
+  vec3 x = clipToBox(other.rgb, mn, max(P.clipGamma * P.clipGamma * var, dy * dy) + 1e-12);
   float sigma2 = (var.r + var.g + var.b) * (1.0 / 3.0);
-  vec3 d = x - mn;
-  float e = dot(d, d) * (1.0 / 3.0) + sigma2;
-  float beta = e > 1e-12 ? 1.0 - sigma2 / e : 0.0;
-  beta = clamp(beta, P.stereoBetaMin, 1.0);
+  float beta = stereoBeta(x, mn, sigma2, o, other.a, q);
   vec3 result = ok ? mix(x, y, beta) : y;
   if (any(isnan(result)) || any(isinf(result))) result = y;
   if (inRange) writeOutput(p, result);

@@ -260,6 +260,19 @@ TEST_F(CoreTest, FxaaLowersTheErrorOfASteppedEdgeAtEverySlope) {
   }
 }
 
+// The rig's D32 depth (near 0.1, far 100) of a box at zBox over x0 < x < x1, y0 < y < y1
+// (box = x0, y0, x1, y1) before a wall at zWall.
+HostImage boxBeforeWall(uint32_t w, uint32_t h, glm::ivec4 box, float zBox, float zWall) {
+  HostImage depth(w, h);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const bool inBox = int(x) > box.x && int(x)<box.z&& int(y)> box.y && int(y) < box.w;
+      const float z = inBox ? zBox : zWall;
+      depth.at(x, y).r = (1.0f / z - 1.0f / 0.1f) / (1.0f / 100.0f - 1.0f / 0.1f);
+    }
+  return depth;
+}
+
 class StereoReference : public CoreTest, public ::testing::WithParamInterface<bool> {};
 
 TEST_P(StereoReference, MatchesCpuReference) {
@@ -272,16 +285,9 @@ TEST_P(StereoReference, MatchesCpuReference) {
   Frame fr;
   fr.views = {eye(0.5f, 0.0f, {-0.032f, 0, 0}), eye(0.5f, 0.0f, {0.032f, 0, 0})};
   fr.color = {pattern(W, H, 11, 0.08f), pattern(W, H, 12, 0.08f)};
-  if (withDepth) {
-    for (int e = 0; e < 2; ++e) {
-      fr.depth[e] = HostImage(W, H);
-      for (uint32_t y = 0; y < H; ++y)
-        for (uint32_t x = 0; x < W; ++x) {
-          const float z = (x > 20 && x < 36 && y > 10 && y < 30) ? 0.4f : 2.0f;  // a box before a wall
-          fr.depth[e].at(x, y).r = (1.0f / z - 1.0f / 0.1f) / (1.0f / 100.0f - 1.0f / 0.1f);
-        }
-    }
-  }
+  if (withDepth)
+    fr.depth = {boxBeforeWall(W, H, {20, 10, 36, 30}, 0.4f, 2.0f),
+                boxBeforeWall(W, H, {20, 10, 36, 30}, 0.4f, 2.0f)};
   const auto out = rig.run(*f, fr);
   const Params p = *applyMethodName("stereo", base);
   for (int e = 0; e < 2; ++e) {
@@ -298,6 +304,17 @@ TEST_P(StereoReference, MatchesCpuReference) {
 
 INSTANTIATE_TEST_SUITE_P(Depth, StereoReference, ::testing::Bool());
 
+// Two stereo frames one IPD apart: looking ahead, then turned by yawDeg and 0.3 deg of pitch;
+// patterns seed..seed+3 (left and right of the first frame, then of the second).
+std::array<Frame, 2> twoStereoFrames(uint32_t w, uint32_t h, uint32_t seed, float yawDeg) {
+  std::array<Frame, 2> fr;
+  fr[0].views = {eye(0.0f, 0.0f, {-0.032f, 0, 0}), eye(0.0f, 0.0f, {0.032f, 0, 0})};
+  fr[0].color = {pattern(w, h, seed, 0.08f), pattern(w, h, seed + 1, 0.08f)};
+  fr[1].views = {eye(yawDeg, 0.3f, {-0.032f, 0, 0}), eye(yawDeg, 0.3f, {0.032f, 0, 0})};
+  fr[1].color = {pattern(w, h, seed + 2, 0.08f), pattern(w, h, seed + 3, 0.08f)};
+  return fr;
+}
+
 // Stereo after a temporal method (seed 002 §5.2: a post pass on both eyes' filtered frames)
 // agrees with the stereo reference applied to the temporal result of this frame.
 TEST_F(CoreTest, SeparateStereoPassAfterTemporalMatchesReference) {
@@ -307,11 +324,7 @@ TEST_F(CoreTest, SeparateStereoPassAfterTemporalMatchesReference) {
   auto f = Filter::create(*gCtx, p, &err);
   ASSERT_TRUE(f) << err;
   Rig rig(W, H);
-  Frame f1, f2;
-  f1.views = {eye(0.0f, 0.0f, {-0.032f, 0, 0}), eye(0.0f, 0.0f, {0.032f, 0, 0})};
-  f1.color = {pattern(W, H, 21, 0.08f), pattern(W, H, 22, 0.08f)};
-  f2.views = {eye(0.8f, 0.3f, {-0.032f, 0, 0}), eye(0.8f, 0.3f, {0.032f, 0, 0})};
-  f2.color = {pattern(W, H, 23, 0.08f), pattern(W, H, 24, 0.08f)};
+  auto [f1, f2] = twoStereoFrames(W, H, 21, 0.8f);
   f2.headSpeed = 4.0f;
   rig.run(*f, f1);
   const auto out2 = rig.run(*f, f2);
@@ -327,3 +340,50 @@ TEST_F(CoreTest, SeparateStereoPassAfterTemporalMatchesReference) {
     EXPECT_LE(d.maxAbs, 0.08f) << "eye " << e;
   }
 }
+
+// Stereo after steady: beta from the eyes' error variances (each history's sample count, the
+// bilinear tap, the disparity's spread without depth) agrees with the reference written from
+// that equation, applied to steady's reference result of this frame. Two frames, so the counts
+// and tap offsets differ across the image; a box before a wall with depth, a plane without.
+class SteadyStereoReference : public CoreTest, public ::testing::WithParamInterface<bool> {};
+
+TEST_P(SteadyStereoReference, MatchesCpuReference) {
+  const bool withDepth = GetParam();
+  const uint32_t W = 48, H = 40;
+  Params base;
+  base.stereoFarDistanceM = 0.8f;  // without depth a near plane: a spread under a pixel blends
+  const Params p = *applyMethodName("steady+stereo", base);
+  ASSERT_TRUE(p.stereoInverseVariance);
+  auto f = makeFilter("steady+stereo", base);
+  auto alone = makeFilter("steady", base);
+  Rig rig(W, H);
+  auto [f1, f2] = twoStereoFrames(W, H, 31, 0.7f);
+  if (withDepth) {
+    const HostImage depth = boxBeforeWall(W, H, {16, 10, 30, 28}, 0.5f, 1.5f);
+    f1.depth = f2.depth = {depth, depth};
+  }
+  rig.run(*f, f1);
+  const auto out2 = rig.run(*f, f2);
+  rig.run(*alone, f1);
+  const auto steadyOnly = rig.run(*alone, f2);
+  std::array<HostImage, 2> temporal;
+  for (int e = 0; e < 2; ++e) {
+    const HostImage first =
+        toHalf(test::steadyRef(p, toHalf(f1.color[e]), HostImage(W, H), false, f1.views[e], f1.views[e],
+                               withDepth ? &f1.depth[e] : nullptr));
+    temporal[e] = toHalf(test::steadyRef(p, toHalf(f2.color[e]), first, true, f1.views[e], f2.views[e],
+                                         withDepth ? &f2.depth[e] : nullptr));
+  }
+  for (int e = 0; e < 2; ++e) {
+    const int o = 1 - e;
+    const HostImage want = test::stereoRef(p, temporal[e], temporal[o], f2.views[e], f2.views[o],
+                                           withDepth ? &f2.depth[e] : nullptr,
+                                           withDepth ? &f2.depth[o] : nullptr, 0.1f, 100.0f, true);
+    const Diff d = compare(out2[e], want);
+    EXPECT_LE(d.meanAbs, 3e-3f) << "eye " << e;
+    EXPECT_LE(d.maxAbs, 0.08f) << "eye " << e;
+    EXPECT_GT(compare(out2[e], steadyOnly[e]).meanAbs, 2e-3f) << "eye " << e << ": the other eye blends in";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Depth, SteadyStereoReference, ::testing::Bool());

@@ -276,11 +276,49 @@ HostImage fxaaRef(const HostImage& in) {
   return out;
 }
 
+namespace {
+
+// The weight of this eye's estimate after steady (Params::stereoInverseVariance). Each estimate of
+// the pixel's area average errs like a sample displaced over the pixel's box (1/12 px^2 per axis)
+// averaged over its sample count; the other eye's was also resampled by a bilinear tap at offset
+// f (f(1-f) px^2 per axis) and, without depth, displaced by the disparity's spread. Inverse
+// variance weights; no blend at all when the spread exceeds a pixel (another surface point).
+float inverseVarianceBeta(float countSelf, float countOther, vec2 q, float spreadPx2) {
+  if (spreadPx2 > 1.0f) return 1.0f;
+  const float boxPx2 = 1.0f / 12.0f + 1.0f / 12.0f;
+  const vec2 f = (q - 0.5f) - glm::floor(q - 0.5f);
+  const float varSelf = boxPx2 / std::max(countSelf, 1.0f);
+  const float varOther =
+      boxPx2 / std::max(countOther, 1.0f) + f.x * (1.0f - f.x) + f.y * (1.0f - f.y) + spreadPx2;
+  return varOther / (varSelf + varOther);
+}
+
+// Without depth the disparity is the far plane's; the true one may be that of a point as near as
+// Params::steadyNearestDepthM: the spread in px is focal * |eye offset| * (1/near - 1/far).
+float disparitySpreadPx2(const core::Params& p, const RefView& selfView, const RefView& otherView,
+                         uint32_t width) {
+  const float focalPx = float(width) / (std::tan(selfView.fov.angleRight) - std::tan(selfView.fov.angleLeft));
+  const float baseline = glm::length(selfView.pose.position - otherView.pose.position);
+  const float px = focalPx * baseline * (1.0f / p.steadyNearestDepthM - 1.0f / p.stereoFarDistanceM);
+  return px * px;
+}
+
+HostImage alphaAsColour(const HostImage& img) {
+  HostImage a = img;
+  for (auto& px : a.px) px = vec4(vec3(px.a), 1.0f);
+  return a;
+}
+
+}  // namespace
+
 HostImage stereoBlendRef(const core::Params& p, const HostImage& self, const HostImage& stats,
                          bool yCoCgStats, const HostImage& other, const RefView& selfView,
                          const RefView& otherSampleView, const RefView& otherDepthView,
-                         const HostImage* selfDepth, const HostImage* otherDepth, float nearZ, float farZ) {
+                         const HostImage* selfDepth, const HostImage* otherDepth, float nearZ, float farZ,
+                         bool inverseVariance) {
   HostImage out(self.width, self.height);
+  const HostImage otherCount = alphaAsColour(other);
+  const float spreadPx2 = selfDepth ? 0.0f : disparitySpreadPx2(p, selfView, otherSampleView, self.width);
   auto space = [&](vec3 c) { return yCoCgStats ? yCoCg(c) : c; };
   for (uint32_t y = 0; y < self.height; ++y)
     for (uint32_t x = 0; x < self.width; ++x) {
@@ -321,7 +359,10 @@ HostImage stereoBlendRef(const core::Params& p, const HostImage& self, const Hos
         const vec3 t = glm::abs(xo - mean) / (glm::max(p.taaClipGamma * sigma, glm::abs(c - mean)) + 1e-6f);
         const float mx = std::max({t.x, t.y, t.z});
         if (mx > 1.0f) xo = mean + (xo - mean) / mx;
-        result = glm::mix(xo, c, eq4Alpha(xo, nb, p.stereoBetaMin));
+        const float beta = inverseVariance
+                               ? inverseVarianceBeta(self.at(x, y).a, bilinear(otherCount, q).r, q, spreadPx2)
+                               : eq4Alpha(xo, nb, p.stereoBetaMin);
+        result = glm::mix(xo, c, beta);
       }
       if (yCoCgStats) result = glm::max(rgb(result), vec3(0));
       out.at(x, y) = vec4(result, 1.0f);
@@ -331,9 +372,9 @@ HostImage stereoBlendRef(const core::Params& p, const HostImage& self, const Hos
 
 HostImage stereoRef(const core::Params& p, const HostImage& self, const HostImage& other,
                     const RefView& selfView, const RefView& otherView, const HostImage* selfDepth,
-                    const HostImage* otherDepth, float nearZ, float farZ) {
+                    const HostImage* otherDepth, float nearZ, float farZ, bool inverseVariance) {
   return stereoBlendRef(p, self, self, false, other, selfView, otherView, otherView, selfDepth, otherDepth,
-                        nearZ, farZ);
+                        nearZ, farZ, inverseVariance);
 }
 
 }  // namespace steadyxr::test

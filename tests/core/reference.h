@@ -40,7 +40,7 @@ HostImage fxaaRef(const HostImage& in);
 // Stereo blend of eye `thisEye` with `other` (seed 002 §4.1). Depths optional (D32 values in .r).
 HostImage stereoRef(const core::Params& p, const HostImage& thisEye, const HostImage& other,
                     const RefView& thisView, const RefView& otherView, const HostImage* thisDepth,
-                    const HostImage* otherDepth, float nearZ, float farZ);
+                    const HostImage* otherDepth, float nearZ, float farZ, bool inverseVariance = false);
 
 // The general stereo blend: this eye's values `self`, its 3x3 statistics from `stats` (in YCoCg
 // when yCoCgStats), the other eye's image `other` sampled where this pixel lands in
@@ -49,6 +49,9 @@ HostImage stereoRef(const core::Params& p, const HostImage& thisEye, const HostI
 HostImage stereoBlendRef(const core::Params& p, const HostImage& self, const HostImage& stats,
                          bool yCoCgStats, const HostImage& other, const RefView& selfView,
                          const RefView& otherSampleView, const RefView& otherDepthView,
-                         const HostImage* selfDepth, const HostImage* otherDepth, float nearZ, float farZ);
+                         const HostImage* selfDepth, const HostImage* otherDepth, float nearZ, float farZ,
+                         bool inverseVariance = false);
+// inverseVariance (after steady, Params::stereoInverseVariance): beta from the two estimates'
+// error variances, each eye's sample count in its image's alpha, in place of Eq. 4.
 
 }  // namespace steadyxr::test

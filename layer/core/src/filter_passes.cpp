@@ -183,6 +183,15 @@ PassDispatch stereoPass(const PassContext& c, uint32_t e) {
     d.switches.depthBits |= 2;
   }
   u.stereoBetaMin = c.params.stereoBetaMin;
+  // After steady the histories' alpha is each eye's sample count (RGBA16F: as is; stereo keeps it).
+  const bool afterSteady = c.plan.temporal && c.params.temporal == TemporalMethod::Steady;
+  u.stereoInverseVariance = afterSteady && c.params.stereoInverseVariance ? 1.0f : 0.0f;
+  u.stereoSampleCountScale = afterSteady ? 1.0f : 0.0f;
+  // Without this eye's depth the disparity is the far plane's; the true one lies anywhere up to
+  // the nearest comfortable distance: steady's parallax spread with the other eye's offset.
+  if (!c.plan.hasDepth[e] && c.plan.poseOk[e] && c.plan.poseOk[o])
+    u.stereoDisparitySpreadPx2 = parallaxSpreadPx2(c.params, c.frame.views[e], c.frame.views[o].pose,
+                                                   c.frame.views[e].color.rect.extent);
   return d;
 }
 

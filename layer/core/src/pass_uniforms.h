@@ -60,6 +60,10 @@ struct PassUniforms {
   float steadyFootprint;         // steady: k of the [k, 1 - 2k, k]^2 footprint filter (0 = off)
   float steadyFootprintEncoded;  // steady: 1 = that filter on square roots, 0 = in linear light
   uint32_t ditherSeed;           // the 8-bit history's dither: new every frame (common.glsl storeHistory)
+  float
+      stereoInverseVariance;  // stereo: 1 = beta by inverse error variance (after steady), 0 = seed 002 Eq. 4
+  float stereoSampleCountScale;    // stereo: src alpha * this = the eye's sample count (>= 1); 0: count 1
+  float stereoDisparitySpreadPx2;  // stereo without this eye's depth: the disparity's spread, px^2
 };
 
 // std140 offsets of PassParams in common.glsl: a host member moved fails here, a shader member
@@ -97,6 +101,9 @@ static_assert(offsetof(PassUniforms, steadyInvBlurBudgetPx2) == 448);
 static_assert(offsetof(PassUniforms, steadyFootprint) == 452);
 static_assert(offsetof(PassUniforms, steadyFootprintEncoded) == 456);
 static_assert(offsetof(PassUniforms, ditherSeed) == 460);
-static_assert(sizeof(PassUniforms) == 464);  // the block's 460 bytes, rounded up to 16 by DepthToInvZ
+static_assert(offsetof(PassUniforms, stereoInverseVariance) == 464);
+static_assert(offsetof(PassUniforms, stereoSampleCountScale) == 468);
+static_assert(offsetof(PassUniforms, stereoDisparitySpreadPx2) == 472);
+static_assert(sizeof(PassUniforms) == 480);  // the block's 476 bytes, rounded up to 16 by DepthToInvZ
 
 }  // namespace steadyxr::core

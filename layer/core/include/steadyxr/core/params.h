@@ -22,9 +22,10 @@ enum class TemporalMethod : uint8_t {
 
 // The shipped default temporal method: decided by the evaluation (eval/), one line to change.
 inline constexpr TemporalMethod kDefaultTemporalMethod = TemporalMethod::Steady;
-// Whether the default adds the stereo pass. Off: on the corpus (README, the default) steady+stereo
-// had a higher mean RMSE (71.3 % of none's against 68.3 %) and a higher per-pixel stereo error
-// (83.2 % of none's against 80.4 %) than steady alone, at about 1.4 times the cost.
+// Whether the default adds the stereo pass. Off: on the corpus (README, the default; issue 14
+// round 4) steady+stereo with the inverse-variance beta lowers the per-pixel stereo error to
+// 72.6 % of none's against steady's 82.2 %, but raises RMSE (70.1 % of none's against 68.3 %,
+// higher in 83 of 120 cases), at about 1.4 times the cost.
 inline constexpr bool kDefaultStereo = false;
 
 // How the temporal passes resample the reprojected history.
@@ -126,6 +127,12 @@ struct Params {
   // the eyes of the thin-geometry scene closer together than ground truth's are (stereo gap
   // +177 %, RMSE +0.6 %); 0.9 brings every scenario's stereo difference closer to ground truth's.
   float stereoBetaMin = 0.9f;
+  // After steady: beta from the two eyes' error variances instead of Eq. 4 (stereo.comp). Each
+  // eye's estimate of the pixel's area average errs like a sample displaced over the pixel's own
+  // box (1/6 px^2) divided by its sample count; the other eye's reprojected estimate adds its
+  // bilinear tap's f(1-f) px^2 per axis and, without depth, the disparity's spread. Inverse-variance
+  // weights: beta = var_other / (var_this + var_other). The seed methods keep Eq. 4.
+  bool stereoInverseVariance = true;
 
   HistoryFilter historyFilter = HistoryFilter::Bilinear;
   HistoryFormat historyFormat = HistoryFormat::Rgba16f;
