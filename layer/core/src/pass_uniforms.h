@@ -60,7 +60,7 @@ struct PassUniforms {
   float steadyFootprint;         // steady: k of the [k, 1 - 2k, k]^2 footprint filter (0 = off)
   float steadyFootprintEncoded;  // steady: 1 = that filter on square roots, 0 = in linear light
   uint32_t ditherSeed;           // the 8-bit history's dither: new every frame (common.glsl storeHistory)
-  float steadyJitterRecentred;   // steady, jittered input: 1 = footprint weights follow the offset, 0 = raw
+  float steadyJitterRecentred;   // steady, jittered input: 1 = 3x3 weights follow the offset, 0 = raw sample
 };
 
 // std140 offsets of PassParams in common.glsl: a host member moved fails here, a shader member
