@@ -125,6 +125,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyClipGamma = value;
     else if (key == "footprint")
       params->steadyFootprint = value;
+    else if (key == "jrecentre")
+      params->steadyJitterRecentred = value != 0.0f;
     else if (key == "near")
       params->steadyNearestDepthM = value;
     else if (key == "interp")
@@ -138,8 +140,7 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
     else {
       *error = "unknown parameter '" + key +
                "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, d, catmull, floor, conf, reject, clip, "
-               "blur, "
-               "footprint, fpenc, near, "
+               "blur, footprint, fpenc, jrecentre, near, "
                "interp, history=16|8, dither after history=8)";
       return false;
     }

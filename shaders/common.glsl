@@ -96,6 +96,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float stereoInverseVariance;     // stereo: 1 = beta by inverse error variance (after steady), 0 = seed 002 Eq. 4
   float stereoSampleCountScale;    // stereo: src alpha * this = the eye's sample count (>= 1); 0: count 1
   float stereoDisparitySpreadPx2;  // stereo without this eye's depth: the disparity's spread, px^2
+  float steadyJitterRecentred;   // steady, jittered input: 1 = 3x3 weights follow the offset, 0 = raw sample
 } P;
 
 vec3 sanitize(vec3 c) {
@@ -104,11 +105,15 @@ vec3 sanitize(vec3 c) {
   return clamp(mix(c, vec3(0.0), bad), vec3(0.0), vec3(65000.0));
 }
 
+// Steady (mode 4) takes jittered samples where they lie, point samples at jitterPx from its pixel
+// centres (temporal.comp, its footprint); the other temporal methods un-jitter through a bilinear fetch.
+const bool kUnjitterBilinear = kJitter && kMode != 4;
+
 // The alpha comes along unsanitised (only alphaOf's use of it is exact: unjittered).
 vec4 fetchSrc0Rgba(ivec2 p) {
   p = clamp(p, ivec2(0), P.src0Size - 1);
   vec4 c;
-  if (kJitter) {  // un-jitter: bilinear at our pixel centre on src0's grid, inside its rect
+  if (kUnjitterBilinear) {  // un-jitter: bilinear at our pixel centre on src0's grid, inside its rect
     vec2 q = clamp(vec2(p) + 0.5 - P.jitterPx, vec2(0.5), vec2(P.src0Size) - 0.5);
     c = textureLod(uSrc0, (vec2(P.src0Offset) + q) * P.src0InvExtent, 0.0);
   } else {

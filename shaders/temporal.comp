@@ -57,6 +57,52 @@ float varianceAlpha(vec3 x, vec3 mean, vec3 var) {
   return clamp(a, P.alphaMin, 1.0);
 }
 
+// Steady on jittered input: tap i of a 3x3 row is a point sample at x = i + j from this pixel's
+// centre (j = jitterPx; src0's pixel c holds our point c + j), the centre tap inside this pixel.
+// Weights recentred on the pixel, per axis: sum w = 1, sum w x = 0, sum w x^2 = m2, so
+// w(-1) = (m2 + j^2 + j) / 2, w(0) = 1 - m2 - j^2, w(1) = (m2 + j^2 - j) / 2 ([m2/2, 1 - m2, m2/2]
+// at j = 0).
+vec3 recentredWeights(float j, float m2) {
+  const float s = m2 + j * j;
+  return vec3(0.5 * (s + j), 1.0 - s, 0.5 * (s - j));
+}
+// The current frame's estimate of the pixel's area average from jittered taps, in linear light or
+// on square roots (Params::steadyFootprintEncoded), as the unjittered footprint. With
+// Params::steadyJitterRecentred the footprint's moments (m2 = 2k) about the pixel centre;
+// otherwise the centre tap alone: with j spread uniformly over the pixel (Halton), the running
+// mean of the sample inside the pixel converges to the pixel's box average (Karis 2014).
+vec3 jitteredFootprint(ivec2 o, float k) {
+  const bool recentred = P.steadyJitterRecentred > 0.5;
+  const vec3 wx = recentred ? recentredWeights(P.jitterPx.x, 2.0 * k) : vec3(0.0, 1.0, 0.0);
+  const vec3 wy = recentred ? recentredWeights(P.jitterPx.y, 2.0 * k) : vec3(0.0, 1.0, 0.0);
+  vec3 linear = vec3(0.0), encoded = vec3(0.0);
+  [[unroll]] for (int y = -1; y <= 1; ++y)
+    [[unroll]] for (int x = -1; x <= 1; ++x) {
+      const vec3 c = blockAt(o, x, y);
+      const float w = wx[x + 1] * wy[y + 1];
+      linear += w * c;
+      encoded += w * sqrt(c);
+    }
+  encoded = max(encoded, vec3(0.0));  // the negative weights (|j| near 1/2) may undershoot
+  return max(P.steadyFootprintEncoded > 0.5 ? encoded * encoded : linear, vec3(0.0));
+}
+// Steady's clip box on jittered input: the YCoCg mean and variance of the 3x3 with the weights
+// recentred on the pixel, with the plain 3x3's second moment (m2 = 2/3; all weights >= 0 for
+// |j| <= 1/2). The plain mean is the picture at +j; the history estimates it at the centre.
+void recentredClipMoments(ivec2 o, out vec3 mean, out vec3 variance) {
+  const vec3 wx = recentredWeights(P.jitterPx.x, 2.0 / 3.0), wy = recentredWeights(P.jitterPx.y, 2.0 / 3.0);
+  vec3 m1 = vec3(0.0), m2 = vec3(0.0);
+  [[unroll]] for (int y = -1; y <= 1; ++y)
+    [[unroll]] for (int x = -1; x <= 1; ++x) {
+      const vec3 c = toYCoCg(blockAt(o, x, y));
+      const float w = wx[x + 1] * wy[y + 1];
+      m1 += w * c;
+      m2 += w * c * c;
+    }
+  mean = m1;
+  variance = max(m2 - m1 * m1, vec3(0.0));
+}
+
 // Branch-free around texture reads, stores skipped past the edge (see PROCESS_BLOCK).
 void processPixel(ivec2 p, ivec2 o) {
   ivec2 size = P.src0Size;
@@ -101,6 +147,12 @@ void processPixel(ivec2 p, ivec2 o) {
                   sqrt(blockAt(o, -1, 1)) + sqrt(blockAt(o, 1, 1));
         vec3 g = (1.0 - 2.0 * k) * (1.0 - 2.0 * k) * sqrt(cur) + k * (1.0 - 2.0 * k) * e4 + k * k * c4;
         fc = P.steadyFootprintEncoded > 0.5 ? g * g : fc;
+        // A jitter of exactly 0 is an unjittered frame (the layer's Halton offsets are never both
+        // 0; it passes 0 for a view whose fov the app did not echo): the footprint above.
+        if (kJitter && any(notEqual(P.jitterPx, vec2(0.0)))) {
+          fc = jitteredFootprint(o, k);
+          recentredClipMoments(o, ymn, yvar);
+        }
       }
     }
   }

@@ -11,6 +11,7 @@
 
 #include "filter_test_rig.h"
 #include "reference.h"
+#include "steadyxr/core/jitter.h"
 
 using namespace steadyxr;
 using namespace steadyxr::core;
@@ -103,6 +104,10 @@ TEST_P(SteadyReference, MatchesCpuReference) {
     p.taaClipGamma = 0.5f;
   }
   const bool withDepth = variant == "depth";
+  // Jittered input: the layer's Halton(2,3) offsets, one per frame (and one frame unjittered).
+  const bool jittered = variant == "jitter" || variant == "jitterraw";
+  p.jitteredInput = jittered;
+  if (variant == "jitterraw") p.steadyJitterRecentred = false;
   auto f = makeFilter("steady", p);
   ASSERT_TRUE(f);
   Rig rig(W, H);
@@ -116,6 +121,7 @@ TEST_P(SteadyReference, MatchesCpuReference) {
         for (uint32_t x = 8u + 3u * uint32_t(k); x < 18u + 3u * uint32_t(k); ++x)
           img.at(x, y) = glm::vec4(1.0f, 0.2f, 0.6f, 1.0f);
     const float fk = float(k);
+    if (jittered && k != 2) fr.jitter = {haltonJitterPx(uint32_t(k) + 3), haltonJitterPx(uint32_t(k) + 4)};
     fr.views = {eye(0.35f * fk, -0.2f * fk, {0.004f * fk, 0, 0.002f * fk}),
                 eye(0.35f * fk, -0.2f * fk, {0.064f + 0.004f * fk, 0, 0.002f * fk})};
     for (int e = 0; e < 2 && withDepth; ++e) {
@@ -130,7 +136,7 @@ TEST_P(SteadyReference, MatchesCpuReference) {
     for (int e = 0; e < 2; ++e) {
       const HostImage want =
           toHalf(test::steadyRef(p, toHalf(fr.color[e]), hist[e], k > 0, prev[e], fr.views[e],
-                                 withDepth ? &fr.depth[e] : nullptr, 0.1f, 100.0f));
+                                 withDepth ? &fr.depth[e] : nullptr, 0.1f, 100.0f, fr.jitter[e]));
       const Diff d = compare(out[e], want);
       // Tolerance as in TemporalReference (8 sub-texel bits of GPU bilinear weights, half
       // precision), over a chain of frames; few pixels sit on a clip decision boundary.
@@ -147,7 +153,8 @@ TEST_P(SteadyReference, MatchesCpuReference) {
 
 INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
                          ::testing::Values("default", "catmull", "linearfootprint", "interpolated",
-                                           "rejectnoblur", "constant", "depth", "wideclip"));
+                                           "rejectnoblur", "constant", "depth", "wideclip", "jitter",
+                                           "jitterraw"));
 
 namespace {
 // Pixels of `a` farther than `tolerance` from `b` in any channel.

@@ -31,11 +31,28 @@ float countAt(const HostImage& hist, vec2 q, bool catmull) {
   return catmull ? catmullRom5(a, q).r : bilinear(a, q).r;
 }
 
+// The weights of three point samples at positions x[0..2] (px from the pixel centre) whose
+// weighted sum has the moments of a footprint centred on the pixel with second moment m2:
+// sum w = 1, sum w x = 0, sum w x^2 = m2. The 3x3 Vandermonde system, solved by Cramer's rule.
+glm::vec3 momentWeights(const float x[3], float m2) {
+  const glm::mat3 v(glm::vec3(1.0f, x[0], x[0] * x[0]), glm::vec3(1.0f, x[1], x[1] * x[1]),
+                    glm::vec3(1.0f, x[2], x[2] * x[2]));  // column i: sample i's moments
+  const glm::vec3 want(1.0f, 0.0f, m2);
+  const float det = glm::determinant(v);
+  glm::vec3 w;
+  for (int i = 0; i < 3; ++i) {
+    glm::mat3 vi = v;
+    vi[i] = want;
+    w[i] = glm::determinant(vi) / det;
+  }
+  return w;
+}
+
 }  // namespace
 
 HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage& hist, bool histValid,
-                    const RefView& prev, const RefView& now, const HostImage* depth, float nearZ,
-                    float farZ) {
+                    const RefView& prev, const RefView& now, const HostImage* depth, float nearZ, float farZ,
+                    glm::vec2 jitterPx) {
   HostImage out(cur.width, cur.height);
   const glm::uvec2 size(cur.width, cur.height);
   const bool catmull = p.historyFilter == core::HistoryFilter::CatmullRom;
@@ -56,27 +73,43 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
   }
   for (uint32_t y = 0; y < cur.height; ++y)
     for (uint32_t x = 0; x < cur.width; ++x) {
-      // Mean and (population) variance of the 3x3 neighbourhood in YCoCg.
+      // Jittered input (a jitter of exactly (0, 0) is an unjittered frame): sample (i, j) of the
+      // 3x3 lies at (i, j) + jitterPx from this pixel's centre.
+      const bool jittered = jitterPx != vec2(0.0f);
+      const float xs[3] = {jitterPx.x - 1.0f, jitterPx.x, jitterPx.x + 1.0f};
+      const float ys[3] = {jitterPx.y - 1.0f, jitterPx.y, jitterPx.y + 1.0f};
+      // Mean and (population) variance of the 3x3 neighbourhood in YCoCg: equal weights 1/3 per
+      // axis, or on jittered input the weights with the same moments about this pixel's centre
+      // (first 0, second 2/3) at the samples' positions.
+      const vec3 cx = jittered ? momentWeights(xs, 2.0f / 3.0f) : vec3(1.0f / 3.0f);
+      const vec3 cy = jittered ? momentWeights(ys, 2.0f / 3.0f) : vec3(1.0f / 3.0f);
       vec3 mean(0), meanSq(0);
       for (int j = -1; j <= 1; ++j)
         for (int i = -1; i <= 1; ++i) {
           const vec3 v = toYCoCg(fetchClamped(cur, int(x) + i, int(y) + j));
-          mean += v / 9.0f;
-          meanSq += v * v / 9.0f;
+          mean += cx[i + 1] * cy[j + 1] * v;
+          meanSq += cx[i + 1] * cy[j + 1] * v * v;
         }
       const vec3 var = glm::max(meanSq - mean * mean, vec3(0));
       // The current frame's estimate of the pixel's area average: the samples reconstructed with
       // a tent of footprint weight k per side, integrated over the pixel: weights [k, 1-2k, k],
       // applied to the display-like encoding v^(1/2) of the samples (or to v itself), decoded.
       const float k = p.steadyFootprint;
-      const float w1d[3] = {k, 1.0f - 2.0f * k, k};
+      vec3 wx(k, 1.0f - 2.0f * k, k), wy = wx;
+      // Jittered: either the weights that give the footprint's moments (0, 2k) about the centre
+      // per axis, or the sample inside this pixel alone (the jitter, uniform over the pixel, makes
+      // the running mean its box average).
+      if (jittered) {
+        wx = p.steadyJitterRecentred ? momentWeights(xs, 2.0f * k) : vec3(0.0f, 1.0f, 0.0f);
+        wy = p.steadyJitterRecentred ? momentWeights(ys, 2.0f * k) : vec3(0.0f, 1.0f, 0.0f);
+      }
       const float gamma = p.steadyFootprintEncoded ? 2.0f : 1.0f;
       vec3 area(0);
       for (int j = -1; j <= 1; ++j)
         for (int i = -1; i <= 1; ++i)
-          area += w1d[i + 1] * w1d[j + 1] *
+          area += wx[i + 1] * wy[j + 1] *
                   glm::pow(vec3(fetchClamped(cur, int(x) + i, int(y) + j)), vec3(1.0f / gamma));
-      area = glm::pow(area, vec3(gamma));
+      area = glm::pow(glm::max(area, vec3(0.0f)), vec3(gamma));
       float distance = p.stereoFarDistanceM;
       if (depth) distance = 1.0f / (1.0f / nearZ + depth->at(x, y).r * (1.0f / farZ - 1.0f / nearZ));
       vec2 q;

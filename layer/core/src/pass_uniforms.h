@@ -64,6 +64,7 @@ struct PassUniforms {
       stereoInverseVariance;  // stereo: 1 = beta by inverse error variance (after steady), 0 = seed 002 Eq. 4
   float stereoSampleCountScale;    // stereo: src alpha * this = the eye's sample count (>= 1); 0: count 1
   float stereoDisparitySpreadPx2;  // stereo without this eye's depth: the disparity's spread, px^2
+  float steadyJitterRecentred;  // steady, jittered input: 1 = 3x3 weights follow the offset, 0 = raw sample
 };
 
 // std140 offsets of PassParams in common.glsl: a host member moved fails here, a shader member
@@ -104,6 +105,7 @@ static_assert(offsetof(PassUniforms, ditherSeed) == 460);
 static_assert(offsetof(PassUniforms, stereoInverseVariance) == 464);
 static_assert(offsetof(PassUniforms, stereoSampleCountScale) == 468);
 static_assert(offsetof(PassUniforms, stereoDisparitySpreadPx2) == 472);
-static_assert(sizeof(PassUniforms) == 480);  // the block's 476 bytes, rounded up to 16 by DepthToInvZ
+static_assert(offsetof(PassUniforms, steadyJitterRecentred) == 476);
+static_assert(sizeof(PassUniforms) == 480);  // the block's 480 bytes
 
 }  // namespace steadyxr::core
