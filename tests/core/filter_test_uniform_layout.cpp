@@ -118,10 +118,11 @@ const std::vector<Member> kPassUniforms = {
     HOST_MEMBER(PassUniforms, steadyFootprint),
     HOST_MEMBER(PassUniforms, steadyFootprintEncoded),
     HOST_MEMBER(PassUniforms, ditherSeed),
+    HOST_MEMBER(PassUniforms, steadyHistoryBlurPerAxis),
 };
-// The table lists every host member: the last one (a uint) ends the struct, up to its 16-byte
+// The table lists every host member: the last one (a float) ends the struct, up to its 16-byte
 // alignment.
-static_assert(offsetof(PassUniforms, ditherSeed) + sizeof(uint32_t) + 16 > sizeof(PassUniforms));
+static_assert(offsetof(PassUniforms, steadyHistoryBlurPerAxis) + sizeof(float) + 16 > sizeof(PassUniforms));
 
 const std::vector<Member> kDepthToInvZ = {
     HOST_MEMBER(DepthToInvZ, invNear),
