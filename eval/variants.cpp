@@ -113,6 +113,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->historyFilter = value != 0.0f ? core::HistoryFilter::CatmullRom : core::HistoryFilter::Bilinear;
     else if (key == "fpenc")
       params->steadyFootprintEncoded = value != 0.0f;
+    else if (key == "bluraxis")
+      params->steadyHistoryBlurPerAxis = value != 0.0f;
     else if (key == "floor")  // steady's ablation switches and constants (core::Params)
       params->steadyAlphaFloor = value;
     else if (key == "conf")
@@ -140,7 +142,7 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
     else {
       *error = "unknown parameter '" + key +
                "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, d, catmull, floor, conf, reject, clip, "
-               "blur, footprint, fpenc, jrecentre, near, "
+               "blur, footprint, fpenc, bluraxis, jrecentre, near, "
                "interp, history=16|8, dither after history=8)";
       return false;
     }

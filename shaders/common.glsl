@@ -97,6 +97,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float stereoSampleCountScale;    // stereo: src alpha * this = the eye's sample count (>= 1); 0: count 1
   float stereoDisparitySpreadPx2;  // stereo without this eye's depth: the disparity's spread, px^2
   float steadyJitterRecentred;   // steady, jittered input: 1 = 3x3 weights follow the offset, 0 = raw sample
+  float steadyHistoryBlurPerAxis;  // steady (history read): 1 = the blur guard per axis, 0 = summed
 } P;
 
 vec3 sanitize(vec3 c) {

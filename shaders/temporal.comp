@@ -178,8 +178,13 @@ void processPixel(ivec2 p, ivec2 o) {
     n *= t2 > 1.0 ? mix(1.0, 1.0 / t2, P.steadyClipRejects) : 1.0;
     float a = max(1.0 / (n + 1.0), P.steadyAlphaFloor);
     vec2 f = fract(q - 0.5);                // bilinear tap offset within the texel
-    // The added blur variance over the budget.
-    float blur = (dot(f, 1.0 - f) + P.parallaxSpreadPx2) * P.steadyInvBlurBudgetPx2;
+    vec2 axisBlur = f * (1.0 - f);          // the tap's blur variance per axis, px^2
+    // The added blur variance over the budget (the box's x + y variance): per axis, the blurrier
+    // axis (the parallax spread may lie along either) counted for both
+    // (Params::steadyHistoryBlurPerAxis); else summed over the axes.
+    float v = P.steadyHistoryBlurPerAxis > 0.5 ? 2.0 * (max(axisBlur.x, axisBlur.y) + P.parallaxSpreadPx2)
+                                                : axisBlur.x + axisBlur.y + P.parallaxSpreadPx2;
+    float blur = v * P.steadyInvBlurBudgetPx2;
     a = max(a, blur / (blur + 1.0));        // steady-state blur (1 - a) / a * v <= budget
     a = P.steadyConfidence > 0.5 ? a : P.taaAlpha;  // ablation: constant alpha
     a = confirmed ? a : 1.0;

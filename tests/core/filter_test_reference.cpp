@@ -93,6 +93,12 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   Params p = *applyMethodName("steady");
   if (variant == "catmull") p.historyFilter = HistoryFilter::CatmullRom;
   if (variant == "linearfootprint") p.steadyFootprintEncoded = false;
+  if (variant == "summedblur" || variant == "swaysummed") p.steadyHistoryBlurPerAxis = false;
+  // A sway: the head turns about 0.5 px a frame along x only, where the blur guard per axis and the
+  // summed one disagree most (the blurrier axis counted twice against it counted once).
+  const bool sway = variant == "sway" || variant == "swaysummed";
+  const float yawStep = sway ? 0.8f : 0.35f, pitchStep = sway ? 0.0f : -0.2f;
+  const glm::vec3 moveStep = sway ? glm::vec3(0.0f) : glm::vec3(0.004f, 0.0f, 0.002f);
   if (variant == "interpolated") p.steadyInterpolated = true;
   if (variant == "rejectnoblur") {
     p.steadyClipRejects = true;
@@ -122,8 +128,8 @@ TEST_P(SteadyReference, MatchesCpuReference) {
           img.at(x, y) = glm::vec4(1.0f, 0.2f, 0.6f, 1.0f);
     const float fk = float(k);
     if (jittered && k != 2) fr.jitter = {haltonJitterPx(uint32_t(k) + 3), haltonJitterPx(uint32_t(k) + 4)};
-    fr.views = {eye(0.35f * fk, -0.2f * fk, {0.004f * fk, 0, 0.002f * fk}),
-                eye(0.35f * fk, -0.2f * fk, {0.064f + 0.004f * fk, 0, 0.002f * fk})};
+    fr.views = {eye(yawStep * fk, pitchStep * fk, moveStep * fk),
+                eye(yawStep * fk, pitchStep * fk, glm::vec3(0.064f, 0.0f, 0.0f) + moveStep * fk)};
     for (int e = 0; e < 2 && withDepth; ++e) {
       fr.depth[e] = HostImage(W, H);
       for (uint32_t y = 0; y < H; ++y)
@@ -152,9 +158,9 @@ TEST_P(SteadyReference, MatchesCpuReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
-                         ::testing::Values("default", "catmull", "linearfootprint", "interpolated",
-                                           "rejectnoblur", "constant", "depth", "wideclip", "jitter",
-                                           "jitterraw"));
+                         ::testing::Values("default", "catmull", "linearfootprint", "summedblur", "sway",
+                                           "swaysummed", "interpolated", "rejectnoblur", "constant", "depth",
+                                           "wideclip", "jitter", "jitterraw"));
 
 namespace {
 // Pixels of `a` farther than `tolerance` from `b` in any channel.

@@ -132,9 +132,13 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
         if (p.steadyBlurBudgetPx2 > 0.0f) {
           // A bilinear tap at offset f within the texel blurs by f(1 - f) per axis; a history blended
           // with weight 1 - alpha every frame settles at (1 - alpha) / alpha times that.
+          // The budget is the box footprint's variance summed over x and y (1/12 + 1/12). Per
+          // axis: each axis's blur (parallax along either) against its half, the worse one decides.
           const vec2 texel = q - 0.5f;
           const vec2 f = texel - glm::floor(texel);
-          const float v = f.x * (1.0f - f.x) + f.y * (1.0f - f.y) + parallaxVar;
+          const float vx = f.x * (1.0f - f.x), vy = f.y * (1.0f - f.y);
+          const float v =
+              p.steadyHistoryBlurPerAxis ? 2.0f * (std::max(vx, vy) + parallaxVar) : vx + vy + parallaxVar;
           alpha = std::max(alpha, v / (v + p.steadyBlurBudgetPx2));
         }
         if (!p.steadyConfidence) alpha = p.taaAlpha;

@@ -65,6 +65,7 @@ struct PassUniforms {
   float stereoSampleCountScale;    // stereo: src alpha * this = the eye's sample count (>= 1); 0: count 1
   float stereoDisparitySpreadPx2;  // stereo without this eye's depth: the disparity's spread, px^2
   float steadyJitterRecentred;  // steady, jittered input: 1 = 3x3 weights follow the offset, 0 = raw sample
+  float steadyHistoryBlurPerAxis;  // steady (history read): 1 = the blur guard per axis, 0 = summed
 };
 
 // std140 offsets of PassParams in common.glsl: a host member moved fails here, a shader member
@@ -106,6 +107,7 @@ static_assert(offsetof(PassUniforms, stereoInverseVariance) == 464);
 static_assert(offsetof(PassUniforms, stereoSampleCountScale) == 468);
 static_assert(offsetof(PassUniforms, stereoDisparitySpreadPx2) == 472);
 static_assert(offsetof(PassUniforms, steadyJitterRecentred) == 476);
-static_assert(sizeof(PassUniforms) == 480);  // the block's 480 bytes
+static_assert(offsetof(PassUniforms, steadyHistoryBlurPerAxis) == 480);
+static_assert(sizeof(PassUniforms) == 496);  // the block's 484 bytes, rounded up to 16 by DepthToInvZ
 
 }  // namespace steadyxr::core

@@ -111,6 +111,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_clip_rejects", &core::Params::steadyClipRejects},
     {"steady_interpolated", &core::Params::steadyInterpolated},
     {"steady_footprint_encoded", &core::Params::steadyFootprintEncoded},
+    {"steady_history_blur_per_axis", &core::Params::steadyHistoryBlurPerAxis},
 };
 
 constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source",    "imu_device",
