@@ -118,10 +118,10 @@ const std::vector<Member> kPassUniforms = {
     HOST_MEMBER(PassUniforms, steadyFootprint),
     HOST_MEMBER(PassUniforms, steadyFootprintEncoded),
     HOST_MEMBER(PassUniforms, ditherSeed),
+    HOST_MEMBER(PassUniforms, steadyRejectBeyondRange),
 };
-// The table lists every host member: the last one (a uint) ends the struct, up to its 16-byte
-// alignment.
-static_assert(offsetof(PassUniforms, ditherSeed) + sizeof(uint32_t) + 16 > sizeof(PassUniforms));
+// The table lists every host member: the last one ends the struct, up to its 16-byte alignment.
+static_assert(offsetof(PassUniforms, steadyRejectBeyondRange) + sizeof(float) + 16 > sizeof(PassUniforms));
 
 const std::vector<Member> kDepthToInvZ = {
     HOST_MEMBER(DepthToInvZ, invNear),

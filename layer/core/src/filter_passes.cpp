@@ -135,6 +135,7 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
     u.steadyInvBlurBudgetPx2 = params.steadyBlurBudgetPx2 > 0.0f ? 1.0f / params.steadyBlurBudgetPx2 : 0.0f;
     u.steadyFootprint = params.steadyFootprint;
     u.steadyFootprintEncoded = params.steadyFootprintEncoded ? 1.0f : 0.0f;
+    u.steadyRejectBeyondRange = params.steadyRejectBeyondRange;
   }
   u.jitterPx = v.jitterPx;
   if (!std::isfinite(u.jitterPx.x) || !std::isfinite(u.jitterPx.y) || std::abs(u.jitterPx.x) > 1.0f ||
