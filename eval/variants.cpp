@@ -117,6 +117,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyConfidence = value != 0.0f;
     else if (key == "reject")
       params->steadyClipRejects = value != 0.0f;
+    else if (key == "boxcur")
+      params->steadyClipHoldsCurrent = value != 0.0f;
     else if (key == "rejrange")
       params->steadyRejectBeyondRange = value;
     else if (key == "blur")

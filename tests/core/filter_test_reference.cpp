@@ -100,6 +100,7 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   if (variant == "constant") p.steadyConfidence = false;
   if (variant == "rejectrange") p.steadyRejectBeyondRange = 1.0f;  // n cut only beyond the 3x3's range
   if (variant == "rejecthalfrange") p.steadyRejectBeyondRange = 0.5f;
+  if (variant == "clipholdscurrent") p.steadyClipHoldsCurrent = true;
   if (variant == "wideclip") {  // steady's clip box is its own, not taa's
     p.steadyClipGamma = 2.0f;
     p.taaClipGamma = 0.5f;
@@ -150,7 +151,7 @@ TEST_P(SteadyReference, MatchesCpuReference) {
 INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
                          ::testing::Values("default", "catmull", "linearfootprint", "interpolated",
                                            "rejectnoblur", "constant", "depth", "wideclip", "rejectrange",
-                                           "rejecthalfrange"));
+                                           "rejecthalfrange", "clipholdscurrent"));
 
 namespace {
 // Pixels of `a` farther than `tolerance` from `b` in any channel.

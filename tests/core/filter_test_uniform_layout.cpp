@@ -119,9 +119,10 @@ const std::vector<Member> kPassUniforms = {
     HOST_MEMBER(PassUniforms, steadyFootprintEncoded),
     HOST_MEMBER(PassUniforms, ditherSeed),
     HOST_MEMBER(PassUniforms, steadyRejectBeyondRange),
+    HOST_MEMBER(PassUniforms, steadyClipHoldsCurrent),
 };
 // The table lists every host member: the last one ends the struct, up to its 16-byte alignment.
-static_assert(offsetof(PassUniforms, steadyRejectBeyondRange) + sizeof(float) + 16 > sizeof(PassUniforms));
+static_assert(offsetof(PassUniforms, steadyClipHoldsCurrent) + sizeof(float) + 16 > sizeof(PassUniforms));
 
 const std::vector<Member> kDepthToInvZ = {
     HOST_MEMBER(DepthToInvZ, invNear),

@@ -93,9 +93,15 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
         // t: how many (gamma sigma)'s the history lies outside the box, in its worst channel.
         // r: the same, but (steadyRejectBeyondRange = f > 0) in units of f times the distance from
         // the mean to the farthest sample on the history's side where that is wider than the box.
+        // With steadyClipHoldsCurrent the box reaches, on the history's side, at least as far as the
+        // current frame's own estimate `area` of the pixel.
+        const vec3 areaY = toYCoCg(area);
         float t = 0.0f, r = 0.0f;
         for (int ch = 0; ch < 3; ++ch) {
-          const float box = std::sqrt(p.steadyClipGamma * p.steadyClipGamma * var[ch] + quantVar);
+          float box = std::sqrt(p.steadyClipGamma * p.steadyClipGamma * var[ch] + quantVar);
+          const bool currentOnHistorySide = (h[ch] - mean[ch]) * (areaY[ch] - mean[ch]) >= 0.0f;
+          if (p.steadyClipHoldsCurrent && currentOnHistorySide)
+            box = std::max(box, std::abs(areaY[ch] - mean[ch]));
           const float toSample = h[ch] >= mean[ch] ? highest[ch] - mean[ch] : mean[ch] - lowest[ch];
           t = std::max(t, std::abs(h[ch] - mean[ch]) / box);
           r = std::max(r, std::abs(h[ch] - mean[ch]) / std::max(box, p.steadyRejectBeyondRange * toSample));

@@ -136,6 +136,7 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
     u.steadyFootprint = params.steadyFootprint;
     u.steadyFootprintEncoded = params.steadyFootprintEncoded ? 1.0f : 0.0f;
     u.steadyRejectBeyondRange = params.steadyRejectBeyondRange;
+    u.steadyClipHoldsCurrent = params.steadyClipHoldsCurrent ? 1.0f : 0.0f;
   }
   u.jitterPx = v.jitterPx;
   if (!std::isfinite(u.jitterPx.x) || !std::isfinite(u.jitterPx.y) || std::abs(u.jitterPx.x) > 1.0f ||
