@@ -119,8 +119,6 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyClipRejects = value != 0.0f;
     else if (key == "boxcur")
       params->steadyClipHoldsCurrent = value != 0.0f;
-    else if (key == "rejrange")
-      params->steadyRejectBeyondRange = value;
     else if (key == "blur")
       params->steadyBlurBudgetPx2 = value;
     else if (key == "clip")

@@ -93,8 +93,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float steadyFootprint;         // steady: k of the [k, 1 - 2k, k]^2 footprint filter (0 = off)
   float steadyFootprintEncoded;  // steady: 1 = that filter on square roots, 0 = in linear light
   uint ditherSeed;               // the 8-bit history's dither: changes every frame (storeHistory)
-  float steadyRejectBeyondRange;  // steady: f > 0: n is cut only by the reach beyond f x the 3x3's range; 0: t^2
-  float steadyClipHoldsCurrent;   // steady: 1 = the clip box reaches out to the current footprint estimate
+  float steadyClipHoldsCurrent;  // steady: 1 = the clip box reaches out to the current estimate fc
 } P;
 
 vec3 sanitize(vec3 c) {

@@ -57,26 +57,6 @@ float varianceAlpha(vec3 x, vec3 mean, vec3 var) {
   return clamp(a, P.alphaMin, 1.0);
 }
 
-// Steady's alternative rejection test (Params::steadyRejectBeyondRange, not the default): how far,
-// squared, the history's offset d from the 3x3 mean (YCoCg) reaches beyond `fraction` of the way
-// from the mean to the extreme of the nine point samples on its side, in its worst channel; the
-// clip box (ext2 = (gamma sigma)^2 + quantisation, per channel) where that is wider. A point
-// sample is the signal at one place in its pixel, so an area average (what the history holds)
-// can lie anywhere between the values sampled around it: a history inside their range is
-// explained by where this frame's samples fell (aliasing), one beyond it is not.
-float rangeExcess2(ivec2 o, vec3 mean, vec3 d, vec3 clipExt2, float fraction) {
-  vec3 lo = vec3(1e30), hi = vec3(-1e30);
-  [[unroll]] for (int j = -1; j <= 1; ++j)
-    [[unroll]] for (int i = -1; i <= 1; ++i) {
-      vec3 v = toYCoCg(blockAt(o, i, j));
-      lo = min(lo, v);
-      hi = max(hi, v);
-    }
-  vec3 reach = fraction * mix(mean - lo, hi - mean, step(vec3(0.0), d));  // the range on the history's side
-  vec3 r2 = d * d / max(reach * reach, clipExt2);
-  return max(r2.x, max(r2.y, r2.z));
-}
-
 // Branch-free around texture reads, stores skipped past the edge (see PROCESS_BLOCK).
 void processPixel(ivec2 p, ivec2 o) {
   ivec2 size = P.src0Size;
@@ -148,9 +128,7 @@ void processPixel(ivec2 p, ivec2 o) {
     vec3 h = t2 > 1.0 ? ymn + d * inversesqrt(t2) : ymn + d;
     const float cap = 1.0 / P.steadyAlphaFloor;
     float n = confirmed ? clamp(kHistoryEncoding != 0 ? hs.a * cap : hs.a, 0.0, cap) : 0.0;  // storeHistory
-    // The evidence that cuts n: t^2, or (not the default) only the reach beyond the 3x3's range.
-    float r2 = P.steadyRejectBeyondRange > 0.0 ? rangeExcess2(o, ymn, d, clipExt2, P.steadyRejectBeyondRange) : t2;
-    n *= r2 > 1.0 ? mix(1.0, 1.0 / r2, P.steadyClipRejects) : 1.0;
+    n *= t2 > 1.0 ? mix(1.0, 1.0 / t2, P.steadyClipRejects) : 1.0;
     float a = max(1.0 / (n + 1.0), P.steadyAlphaFloor);
     vec2 f = fract(q - 0.5);                // bilinear tap offset within the texel
     // The added blur variance over the budget.

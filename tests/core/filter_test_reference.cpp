@@ -98,8 +98,6 @@ TEST_P(SteadyReference, MatchesCpuReference) {
     p.steadyBlurBudgetPx2 = 0.0f;
   }
   if (variant == "constant") p.steadyConfidence = false;
-  if (variant == "rejectrange") p.steadyRejectBeyondRange = 1.0f;  // n cut only beyond the 3x3's range
-  if (variant == "rejecthalfrange") p.steadyRejectBeyondRange = 0.5f;
   if (variant == "clipholdscurrent") p.steadyClipHoldsCurrent = true;
   if (variant == "wideclip") {  // steady's clip box is its own, not taa's
     p.steadyClipGamma = 2.0f;
@@ -150,8 +148,8 @@ TEST_P(SteadyReference, MatchesCpuReference) {
 
 INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
                          ::testing::Values("default", "catmull", "linearfootprint", "interpolated",
-                                           "rejectnoblur", "constant", "depth", "wideclip", "rejectrange",
-                                           "rejecthalfrange", "clipholdscurrent"));
+                                           "rejectnoblur", "constant", "depth", "wideclip",
+                                           "clipholdscurrent"));
 
 namespace {
 // Pixels of `a` farther than `tolerance` from `b` in any channel.

@@ -118,7 +118,6 @@ const std::vector<Member> kPassUniforms = {
     HOST_MEMBER(PassUniforms, steadyFootprint),
     HOST_MEMBER(PassUniforms, steadyFootprintEncoded),
     HOST_MEMBER(PassUniforms, ditherSeed),
-    HOST_MEMBER(PassUniforms, steadyRejectBeyondRange),
     HOST_MEMBER(PassUniforms, steadyClipHoldsCurrent),
 };
 // The table lists every host member: the last one ends the struct, up to its 16-byte alignment.

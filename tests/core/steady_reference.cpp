@@ -57,15 +57,12 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
   for (uint32_t y = 0; y < cur.height; ++y)
     for (uint32_t x = 0; x < cur.width; ++x) {
       // Mean and (population) variance of the 3x3 neighbourhood in YCoCg.
-      // Also its range: the smallest and largest of the nine point samples, per channel.
-      vec3 mean(0), meanSq(0), lowest(1e30f), highest(-1e30f);
+      vec3 mean(0), meanSq(0);
       for (int j = -1; j <= 1; ++j)
         for (int i = -1; i <= 1; ++i) {
           const vec3 v = toYCoCg(fetchClamped(cur, int(x) + i, int(y) + j));
           mean += v / 9.0f;
           meanSq += v * v / 9.0f;
-          lowest = glm::min(lowest, v);
-          highest = glm::max(highest, v);
         }
       const vec3 var = glm::max(meanSq - mean * mean, vec3(0));
       // The current frame's estimate of the pixel's area average: the samples reconstructed with
@@ -91,26 +88,20 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
       if (confirmed) {
         const vec3 h = toYCoCg(catmull ? catmullRom5(hist, q) : bilinear(hist, q));
         // t: how many (gamma sigma)'s the history lies outside the box, in its worst channel.
-        // r: the same, but (steadyRejectBeyondRange = f > 0) in units of f times the distance from
-        // the mean to the farthest sample on the history's side where that is wider than the box.
         // With steadyClipHoldsCurrent the box reaches, on the history's side, at least as far as the
         // current frame's own estimate `area` of the pixel.
         const vec3 areaY = toYCoCg(area);
-        float t = 0.0f, r = 0.0f;
+        float t = 0.0f;
         for (int ch = 0; ch < 3; ++ch) {
           float box = std::sqrt(p.steadyClipGamma * p.steadyClipGamma * var[ch] + quantVar);
           const bool currentOnHistorySide = (h[ch] - mean[ch]) * (areaY[ch] - mean[ch]) >= 0.0f;
           if (p.steadyClipHoldsCurrent && currentOnHistorySide)
             box = std::max(box, std::abs(areaY[ch] - mean[ch]));
-          const float toSample = h[ch] >= mean[ch] ? highest[ch] - mean[ch] : mean[ch] - lowest[ch];
           t = std::max(t, std::abs(h[ch] - mean[ch]) / box);
-          r = std::max(r, std::abs(h[ch] - mean[ch]) / std::max(box, p.steadyRejectBeyondRange * toSample));
         }
         const vec3 clipped = t > 1.0f ? mean + (h - mean) / t : h;
         float n = std::clamp(countAt(hist, q, catmull), 0.0f, maxCount);
-        // The evidence of a wrong history that lowers n: t, or r.
-        const float evidence = p.steadyRejectBeyondRange > 0.0f ? r : t;
-        if (evidence > 1.0f && p.steadyClipRejects) n /= evidence * evidence;
+        if (t > 1.0f && p.steadyClipRejects) n /= t * t;
         float alpha = std::max(1.0f / (n + 1.0f), p.steadyAlphaFloor);
         if (p.steadyBlurBudgetPx2 > 0.0f) {
           // A bilinear tap at offset f within the texel blurs by f(1 - f) per axis; a history blended

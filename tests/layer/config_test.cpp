@@ -126,8 +126,7 @@ TEST(Config, SteadyKeys) {
       parseConfigText("method = steady+stereo\nsteady_alpha_floor = 0.125\nsteady_blur_budget_px2 = 0.25\n"
                       "steady_footprint = 0\nsteady_nearest_depth_m = 2\nsteady_confidence = off\n"
                       "steady_clip_rejects = on\nsteady_interpolated = 1\nsteady_clip_gamma = 0.75\n"
-                      "steady_footprint_encoded = off\nsteady_reject_beyond_range = 0.5\n"
-                      "steady_clip_holds_current = on\n",
+                      "steady_footprint_encoded = off\nsteady_clip_holds_current = on\n",
                       &messages),
       "a", envOf({}), &messages);
   EXPECT_TRUE(messages.empty()) << (messages.empty() ? "" : messages[0]);
@@ -141,22 +140,18 @@ TEST(Config, SteadyKeys) {
   EXPECT_TRUE(c.params.steadyInterpolated);
   EXPECT_FLOAT_EQ(c.params.steadyClipGamma, 0.75f);
   EXPECT_FALSE(c.params.steadyFootprintEncoded);
-  EXPECT_FLOAT_EQ(c.params.steadyRejectBeyondRange, 0.5f);
   EXPECT_TRUE(c.params.steadyClipHoldsCurrent);
   messages.clear();
   const Config bad = resolveConfig(
-      parseConfigText("steady_footprint = 0.5\nsteady_confidence = maybe\nsteady_clip_gamma = 0\n"
-                      "steady_reject_beyond_range = 2\n",
+      parseConfigText("steady_footprint = 0.5\nsteady_confidence = maybe\nsteady_clip_gamma = 0\n",
                       &messages),
       "a", envOf({}), &messages);
   EXPECT_FLOAT_EQ(bad.params.steadyFootprint, steadyxr::core::Params{}.steadyFootprint);
   EXPECT_TRUE(bad.params.steadyConfidence);
   EXPECT_FLOAT_EQ(bad.params.steadyClipGamma, steadyxr::core::Params{}.steadyClipGamma);
-  EXPECT_FLOAT_EQ(bad.params.steadyRejectBeyondRange, steadyxr::core::Params{}.steadyRejectBeyondRange);
   EXPECT_TRUE(mentions(messages, "steady_clip_gamma", "0"));
   EXPECT_TRUE(mentions(messages, "steady_footprint", "0.5"));
   EXPECT_TRUE(mentions(messages, "steady_confidence", "maybe"));
-  EXPECT_TRUE(mentions(messages, "steady_reject_beyond_range", "2"));
 }
 
 TEST(Config, FileSearchOrder) {

@@ -135,7 +135,6 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
     u.steadyInvBlurBudgetPx2 = params.steadyBlurBudgetPx2 > 0.0f ? 1.0f / params.steadyBlurBudgetPx2 : 0.0f;
     u.steadyFootprint = params.steadyFootprint;
     u.steadyFootprintEncoded = params.steadyFootprintEncoded ? 1.0f : 0.0f;
-    u.steadyRejectBeyondRange = params.steadyRejectBeyondRange;
     u.steadyClipHoldsCurrent = params.steadyClipHoldsCurrent ? 1.0f : 0.0f;
   }
   u.jitterPx = v.jitterPx;

@@ -98,7 +98,6 @@ std::string validate(const Params& p, Params* sanitized) {
   check(inUnit(p.steadyAlphaFloor) && p.steadyAlphaFloor > 0.0f, "steadyAlphaFloor",
         &Params::steadyAlphaFloor);
   check(positive(p.steadyClipGamma), "steadyClipGamma", &Params::steadyClipGamma);
-  check(inUnit(p.steadyRejectBeyondRange), "steadyRejectBeyondRange", &Params::steadyRejectBeyondRange);
   check(finite(p.steadyFootprint) && p.steadyFootprint >= 0.0f && p.steadyFootprint <= 0.25f,
         "steadyFootprint", &Params::steadyFootprint);
   check(positive(p.steadyNearestDepthM) || p.steadyNearestDepthM == INFINITY, "steadyNearestDepthM",

@@ -61,8 +61,6 @@ struct PassUniforms {
   float steadyFootprintEncoded;  // steady: 1 = that filter on square roots, 0 = in linear light
   uint32_t ditherSeed;           // the 8-bit history's dither: new every frame (common.glsl storeHistory)
 
-  // steady: f > 0: n is cut only by the history's reach beyond f x the 3x3's range; 0: by t^2
-  float steadyRejectBeyondRange;
   // steady: 1 = the clip box reaches out to the current frame's footprint estimate of the pixel
   float steadyClipHoldsCurrent;
 };
@@ -102,8 +100,7 @@ static_assert(offsetof(PassUniforms, steadyInvBlurBudgetPx2) == 448);
 static_assert(offsetof(PassUniforms, steadyFootprint) == 452);
 static_assert(offsetof(PassUniforms, steadyFootprintEncoded) == 456);
 static_assert(offsetof(PassUniforms, ditherSeed) == 460);
-static_assert(offsetof(PassUniforms, steadyRejectBeyondRange) == 464);
-static_assert(offsetof(PassUniforms, steadyClipHoldsCurrent) == 468);
-static_assert(sizeof(PassUniforms) == 480);  // the block's 472 bytes, rounded up to 16 by DepthToInvZ
+static_assert(offsetof(PassUniforms, steadyClipHoldsCurrent) == 464);
+static_assert(sizeof(PassUniforms) == 480);  // the block's 468 bytes, rounded up to 16 by DepthToInvZ
 
 }  // namespace steadyxr::core

@@ -80,25 +80,14 @@ struct Params {
   // without, cases above none's 0 against 22, worst frame 1.36x none's against 1.95x (README,
   // ablation).
   bool steadyClipRejects = true;
-  // What cuts n (issue 14, round 4; an ablation, not the default). 0: t^2 of the clip box above.
-  // f in (0, 1]: only the history's reach beyond f times the way from the 3x3 mean to the extreme
-  // of its nine point samples on the history's side (per YCoCg channel; never a narrower test than
-  // the clip box); the colour is clipped to the box as before. Why it was tried: a point sample is
-  // the signal at one place in its pixel, so a sub-pixel wire sampled this frame pulls the 3x3
-  // away from a history that holds its area average, and t^2 cut that history's count: the output
-  // followed the aliasing. Measured (README proposal in the s4-d notes): f = 1 wins thin geometry
-  // (no mipmaps, tremor 1x: 0.552 of none's RMSE against 0.708) but loses 1-px lines, the zone
-  // plate and small text (0.541 against 0.362 on lines1px) and lets the moving object ghost
-  // (mipmapped, tremor 1x: 1.41x none's); f = 0.5 and 0.25 do the same in smaller measure.
-  float steadyRejectBeyondRange = 0.0f;
   // The clip box reaches out, on the history's side and per YCoCg channel, to the current frame's
-  // own estimate of the pixel's area average (the footprint filter's output; issue 14 round 4, an
-  // ablation, not the default). Why it was tried: at a peak (a 1-px line) the area average is
-  // near the pixel's own value, not within the 3x3 mean +- 0.5 sigma, and a box that excludes the
-  // very value the history is blended towards clips the history to a value the current frame
-  // itself calls wrong. Measured (s4-d notes): photos gain (astronaut, mipmapped, tremor 1x: 0.701
-  // of none's RMSE against 0.767), the moving object holds, but 1-px lines lose (0.489 against
-  // 0.365): there the narrow clip's pull towards the 3x3 mean is what helps.
+  // own estimate of the pixel's area average (the footprint filter's output; issue 14 round 4, not
+  // the default: it did not beat the narrow box on the mean). Why it was tried: at a peak (a 1-px line) the
+  // area average is near the pixel's own value, not within the 3x3 mean +- 0.5 sigma, and a box that excludes
+  // the very value the history is blended towards clips the history to a value the current frame itself calls
+  // wrong. Measured (s4-d notes): photos gain (astronaut, mipmapped, tremor 1x: 0.701 of none's RMSE against
+  // 0.767), the moving object holds, but 1-px lines lose (0.489 against 0.365): there the narrow clip's pull
+  // towards the 3x3 mean is what helps.
   bool steadyClipHoldsCurrent = false;
   // The clip box of the history: the YCoCg 3x3 mean +- steadyClipGamma * sigma. The history
   // estimates this pixel's area average. On a locally linear signal (slope g per px along x) the
