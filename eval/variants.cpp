@@ -121,6 +121,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyConfidence = value != 0.0f;
     else if (key == "reject")
       params->steadyClipRejects = value != 0.0f;
+    else if (key == "boxcur")
+      params->steadyClipHoldsCurrent = value != 0.0f;
     else if (key == "blur")
       params->steadyBlurBudgetPx2 = value;
     else if (key == "clip")

@@ -98,6 +98,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float stereoDisparitySpreadPx2;  // stereo without this eye's depth: the disparity's spread, px^2
   float steadyJitterRecentred;   // steady, jittered input: 1 = 3x3 weights follow the offset, 0 = raw sample
   float steadyHistoryBlurPerAxis;  // steady (history read): 1 = the blur guard per axis, 0 = summed
+  float steadyClipHoldsCurrent;  // steady: 1 = the clip box reaches out to the current estimate fc
 } P;
 
 vec3 sanitize(vec3 c) {

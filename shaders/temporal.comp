@@ -170,7 +170,12 @@ void processPixel(ivec2 p, ivec2 o) {
     const bool confirmed = reproject(P.reproj[0], pc, invZ, q, iz) && historyValid;
     vec4 hs = sampleHistoryRgba(q);  // q is clamped into the image inside
     vec3 d = toYCoCg(hs.rgb) - ymn;
-    vec3 t2v = d * d / (P.clipGamma * P.clipGamma * yvar + kQuantVar);
+    vec3 clipExt2 = P.clipGamma * P.clipGamma * yvar + kQuantVar;
+    // Params::steadyClipHoldsCurrent (not the default): the box reaches out, on the history's side
+    // and per channel, to the current frame's own estimate of the pixel's area average (fc).
+    vec3 toCur = toYCoCg(fc) - ymn;
+    clipExt2 = max(clipExt2, step(vec3(0.0), d * toCur) * toCur * toCur * P.steadyClipHoldsCurrent);
+    vec3 t2v = d * d / clipExt2;
     float t2 = max(t2v.x, max(t2v.y, t2v.z));
     vec3 h = t2 > 1.0 ? ymn + d * inversesqrt(t2) : ymn + d;
     const float cap = 1.0 / P.steadyAlphaFloor;

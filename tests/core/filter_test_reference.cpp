@@ -105,6 +105,7 @@ TEST_P(SteadyReference, MatchesCpuReference) {
     p.steadyBlurBudgetPx2 = 0.0f;
   }
   if (variant == "constant") p.steadyConfidence = false;
+  if (variant == "clipholdscurrent") p.steadyClipHoldsCurrent = true;
   if (variant == "wideclip") {  // steady's clip box is its own, not taa's
     p.steadyClipGamma = 2.0f;
     p.taaClipGamma = 0.5f;
@@ -160,7 +161,7 @@ TEST_P(SteadyReference, MatchesCpuReference) {
 INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
                          ::testing::Values("default", "catmull", "linearfootprint", "summedblur", "sway",
                                            "swaysummed", "interpolated", "rejectnoblur", "constant", "depth",
-                                           "wideclip", "jitter", "jitterraw"));
+                                           "wideclip", "jitter", "jitterraw", "clipholdscurrent"));
 
 namespace {
 // Pixels of `a` farther than `tolerance` from `b` in any channel.

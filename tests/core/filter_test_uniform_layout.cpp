@@ -123,10 +123,11 @@ const std::vector<Member> kPassUniforms = {
     HOST_MEMBER(PassUniforms, stereoDisparitySpreadPx2),
     HOST_MEMBER(PassUniforms, steadyJitterRecentred),
     HOST_MEMBER(PassUniforms, steadyHistoryBlurPerAxis),
+    HOST_MEMBER(PassUniforms, steadyClipHoldsCurrent),
 };
 // The table lists every host member: the last one (a float) ends the struct, up to its 16-byte
 // alignment.
-static_assert(offsetof(PassUniforms, steadyHistoryBlurPerAxis) + sizeof(float) + 16 > sizeof(PassUniforms));
+static_assert(offsetof(PassUniforms, steadyClipHoldsCurrent) + sizeof(float) + 16 > sizeof(PassUniforms));
 
 const std::vector<Member> kDepthToInvZ = {
     HOST_MEMBER(DepthToInvZ, invNear),

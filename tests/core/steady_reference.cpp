@@ -121,10 +121,17 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
       if (confirmed) {
         const vec3 h = toYCoCg(catmull ? catmullRom5(hist, q) : bilinear(hist, q));
         // t: how many (gamma sigma)'s the history lies outside the box, in its worst channel.
+        // With steadyClipHoldsCurrent the box reaches, on the history's side, at least as far as the
+        // current frame's own estimate `area` of the pixel.
+        const vec3 areaY = toYCoCg(area);
         float t = 0.0f;
-        for (int ch = 0; ch < 3; ++ch)
-          t = std::max(t, std::abs(h[ch] - mean[ch]) /
-                              std::sqrt(p.steadyClipGamma * p.steadyClipGamma * var[ch] + quantVar));
+        for (int ch = 0; ch < 3; ++ch) {
+          float box = std::sqrt(p.steadyClipGamma * p.steadyClipGamma * var[ch] + quantVar);
+          const bool currentOnHistorySide = (h[ch] - mean[ch]) * (areaY[ch] - mean[ch]) >= 0.0f;
+          if (p.steadyClipHoldsCurrent && currentOnHistorySide)
+            box = std::max(box, std::abs(areaY[ch] - mean[ch]));
+          t = std::max(t, std::abs(h[ch] - mean[ch]) / box);
+        }
         const vec3 clipped = t > 1.0f ? mean + (h - mean) / t : h;
         float n = std::clamp(countAt(hist, q, catmull), 0.0f, maxCount);
         if (t > 1.0f && p.steadyClipRejects) n /= t * t;

@@ -126,7 +126,8 @@ TEST(Config, SteadyKeys) {
       parseConfigText("method = steady+stereo\nsteady_alpha_floor = 0.125\nsteady_blur_budget_px2 = 0.25\n"
                       "steady_footprint = 0\nsteady_nearest_depth_m = 2\nsteady_confidence = off\n"
                       "steady_clip_rejects = on\nsteady_interpolated = 1\nsteady_clip_gamma = 0.75\n"
-                      "steady_footprint_encoded = off\nsteady_history_blur_per_axis = off\n",
+                      "steady_footprint_encoded = off\nsteady_history_blur_per_axis = off\n"
+                      "steady_clip_holds_current = on\n",
                       &messages),
       "a", envOf({}), &messages);
   EXPECT_TRUE(messages.empty()) << (messages.empty() ? "" : messages[0]);
@@ -141,6 +142,7 @@ TEST(Config, SteadyKeys) {
   EXPECT_FLOAT_EQ(c.params.steadyClipGamma, 0.75f);
   EXPECT_FALSE(c.params.steadyFootprintEncoded);
   EXPECT_FALSE(c.params.steadyHistoryBlurPerAxis);
+  EXPECT_TRUE(c.params.steadyClipHoldsCurrent);
   messages.clear();
   const Config bad = resolveConfig(
       parseConfigText("steady_footprint = 0.5\nsteady_confidence = maybe\nsteady_clip_gamma = 0\n",

@@ -137,6 +137,7 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
     u.steadyFootprintEncoded = params.steadyFootprintEncoded ? 1.0f : 0.0f;
     u.steadyJitterRecentred = params.steadyJitterRecentred ? 1.0f : 0.0f;
     u.steadyHistoryBlurPerAxis = params.steadyHistoryBlurPerAxis ? 1.0f : 0.0f;
+    u.steadyClipHoldsCurrent = params.steadyClipHoldsCurrent ? 1.0f : 0.0f;
   }
   u.jitterPx = v.jitterPx;
   if (!std::isfinite(u.jitterPx.x) || !std::isfinite(u.jitterPx.y) || std::abs(u.jitterPx.x) > 1.0f ||

@@ -66,6 +66,7 @@ struct PassUniforms {
   float stereoDisparitySpreadPx2;  // stereo without this eye's depth: the disparity's spread, px^2
   float steadyJitterRecentred;  // steady, jittered input: 1 = 3x3 weights follow the offset, 0 = raw sample
   float steadyHistoryBlurPerAxis;  // steady (history read): 1 = the blur guard per axis, 0 = summed
+  float steadyClipHoldsCurrent;    // steady: 1 = the clip box reaches out to the current estimate fc
 };
 
 // std140 offsets of PassParams in common.glsl: a host member moved fails here, a shader member
@@ -108,6 +109,7 @@ static_assert(offsetof(PassUniforms, stereoSampleCountScale) == 468);
 static_assert(offsetof(PassUniforms, stereoDisparitySpreadPx2) == 472);
 static_assert(offsetof(PassUniforms, steadyJitterRecentred) == 476);
 static_assert(offsetof(PassUniforms, steadyHistoryBlurPerAxis) == 480);
-static_assert(sizeof(PassUniforms) == 496);  // the block's 484 bytes, rounded up to 16 by DepthToInvZ
+static_assert(offsetof(PassUniforms, steadyClipHoldsCurrent) == 484);
+static_assert(sizeof(PassUniforms) == 496);  // the block's 488 bytes, rounded up to 16 by DepthToInvZ
 
 }  // namespace steadyxr::core

@@ -112,6 +112,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_interpolated", &core::Params::steadyInterpolated},
     {"steady_footprint_encoded", &core::Params::steadyFootprintEncoded},
     {"steady_history_blur_per_axis", &core::Params::steadyHistoryBlurPerAxis},
+    {"steady_clip_holds_current", &core::Params::steadyClipHoldsCurrent},
 };
 
 constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source",    "imu_device",

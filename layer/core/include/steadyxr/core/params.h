@@ -81,6 +81,16 @@ struct Params {
   // without, cases above none's 0 against 22, worst frame 1.36x none's against 1.95x (README,
   // ablation).
   bool steadyClipRejects = true;
+  // The clip box reaches out, on the history's side and per YCoCg channel, to the current frame's
+  // own estimate of the pixel's area average (the footprint filter's output). Issue 14 round 4;
+  // not the default: it did not beat the narrow box on the corpus slices. Why it was tried: at a
+  // peak (a 1-px line) the area average is near the pixel's own value, not within the 3x3 mean
+  // +- 0.5 sigma, and a box that excludes the very value the history is blended towards clips the
+  // history to a value the current frame itself calls wrong. Measured (s4-d notes): photos gain
+  // (astronaut, mipmapped, tremor 1x: 0.701 of none's RMSE against 0.767), and so do held-out
+  // pictures and the moving object; 1-px lines lose (0.489 against 0.365): there the narrow
+  // clip's pull towards the 3x3 mean is what helps.
+  bool steadyClipHoldsCurrent = false;
   // The clip box of the history: the YCoCg 3x3 mean +- steadyClipGamma * sigma. The history
   // estimates this pixel's area average. On a locally linear signal (slope g per px along x) the
   // 3x3 has sigma^2 = 2g^2/3 and the pixel's own footprint spans the mean +- g/2 = +- sqrt(3/8)
