@@ -113,6 +113,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_footprint_encoded", &core::Params::steadyFootprintEncoded},
     {"steady_history_blur_per_axis", &core::Params::steadyHistoryBlurPerAxis},
     {"steady_clip_holds_current", &core::Params::steadyClipHoldsCurrent},
+    {"stereo_inverse_variance", &core::Params::stereoInverseVariance},
 };
 
 constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source",    "imu_device",
