@@ -53,7 +53,10 @@ std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h, double p
     const core::Fov eyeFovHere =
         tangentScale == 1.0 ? eyeFov(eye) : scaleFovTangents(eyeFov(eye), tangentScale);
     const core::Fov fov = core::jitterFov(eyeFovHere, jitterPx.x, jitterPx.y, uint32_t(w), uint32_t(h));
-    cams[eye] = makeEyeCamera(p, fov, w, h, kNearZ, kFarZ);
+    // The near plane moves out with the picture (scene.cpp, picturePlane): the depth buffer holds
+    // the values it holds without --ppd, and the ground truth's background quad at raster depth
+    // 0.999 (renderer.cpp) stays behind the picture (with a 0.05 m near plane it would be in front).
+    cams[eye] = makeEyeCamera(p, fov, w, h, float(kNearZ / tangentScale), kFarZ);
   }
   return cams;
 }

@@ -37,7 +37,8 @@ struct HeadPose {
   glm::vec3 position{0.0f};
 };
 
-// pixelsPerDegree: --ppd (0: eyeFov as it is). jitterPx: the layer's sub-pixel jitter
+// pixelsPerDegree: --ppd (0: eyeFov as it is; else the fov's tangents and kNearZ times
+// ppdTangentScale). jitterPx: the layer's sub-pixel jitter
 // (core::jitterFov), zero for an unjittered render.
 std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h, double pixelsPerDegree,
                                     glm::vec2 jitterPx = glm::vec2(0.0f));

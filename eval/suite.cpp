@@ -303,7 +303,7 @@ int runSuite(const Options& o) {
           for (int eye = 0; eye < 2; ++eye) {
             core::ViewFrame& view = frame.views[eye];
             view.color = v.source == 1 ? renderer->baseColor(eye) : renderer->msaaColor(v.source, eye);
-            if (sc.depthGiven) view.depth = renderer->baseDepth(eye, kNearZ, kFarZ);
+            if (sc.depthGiven) view.depth = renderer->baseDepth(eye, cams[eye].nearZ, cams[eye].farZ);
             view.pose = cams[eye].pose;
             view.fov = cams[eye].fov;  // the unjittered fov, as the layer submits after un-jittering
             if (v.jitter) view.jitterPx = jitter;
