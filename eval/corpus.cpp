@@ -168,6 +168,7 @@ std::vector<Scenario> corpusScenarios(const Options& o) {
       }
     };
     for (const std::string& p : pictures) add("imageviewer", p, pictureClass(p));
+    if (o.ppd > 0.0) continue;  // --ppd: the image viewer only (scene.h, makeScene)
     for (const char* scene : {"thin", "moving", "disocclusion"})
       add(scene, pictures.front(), std::string("scene:") + scene);
   }

@@ -3,6 +3,9 @@
 
 #include "steadyxr/core/jitter.h"
 
+#include <cmath>
+#include <numbers>
+
 namespace steadyxr::eval {
 
 // Per-eye fov of a typical HMD: wider towards the temple than the nose (radians).
@@ -15,15 +18,45 @@ core::Fov eyeFov(int eye) {
   return f;
 }
 
-// jitterPx: the layer's sub-pixel jitter (core::jitterFov), zero for an unjittered render.
-std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h, glm::vec2 jitterPx) {
+double centrePixelsPerDegree(const core::Fov& fov, int width) {
+  const double focalPx = width / (std::tan(double(fov.angleRight)) - std::tan(double(fov.angleLeft)));
+  return focalPx * std::numbers::pi / 180.0;
+}
+
+double ppdTangentScale(double pixelsPerDegree, int width) {
+  if (pixelsPerDegree <= 0.0) return 1.0;
+  // Both eyes' fovs are mirror images: the same horizontal tangent span, the same factor.
+  return centrePixelsPerDegree(eyeFov(0), width) / pixelsPerDegree;
+}
+
+core::Fov scaleFovTangents(const core::Fov& fov, double tangentScale) {
+  auto scaled = [tangentScale](float angle) {
+    return float(std::atan(tangentScale * std::tan(double(angle))));
+  };
+  core::Fov out;
+  out.angleLeft = scaled(fov.angleLeft);
+  out.angleRight = scaled(fov.angleRight);
+  out.angleUp = scaled(fov.angleUp);
+  out.angleDown = scaled(fov.angleDown);
+  return out;
+}
+
+std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h, double pixelsPerDegree,
+                                    glm::vec2 jitterPx) {
   std::array<EyeCamera, 2> cams;
+  const double tangentScale = ppdTangentScale(pixelsPerDegree, w);
   for (int eye = 0; eye < 2; ++eye) {
     core::Pose p;
     p.orientation = head.orientation;
     p.position = head.position + head.orientation * glm::vec3(eye == 0 ? -kIpdM / 2 : kIpdM / 2, 0.0f, 0.0f);
-    const core::Fov fov = core::jitterFov(eyeFov(eye), jitterPx.x, jitterPx.y, uint32_t(w), uint32_t(h));
-    cams[eye] = makeEyeCamera(p, fov, w, h, kNearZ, kFarZ);
+    // Off (scale 1): eyeFov untouched, so every result without --ppd stays bit-identical.
+    const core::Fov eyeFovHere =
+        tangentScale == 1.0 ? eyeFov(eye) : scaleFovTangents(eyeFov(eye), tangentScale);
+    const core::Fov fov = core::jitterFov(eyeFovHere, jitterPx.x, jitterPx.y, uint32_t(w), uint32_t(h));
+    // The near plane moves out with the picture (scene.cpp, picturePlane): the depth buffer holds
+    // the values it holds without --ppd, and the ground truth's background quad at raster depth
+    // 0.999 (renderer.cpp) stays behind the picture (with a 0.05 m near plane it would be in front).
+    cams[eye] = makeEyeCamera(p, fov, w, h, float(kNearZ / tangentScale), kFarZ);
   }
   return cams;
 }

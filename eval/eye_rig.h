@@ -21,12 +21,26 @@ constexpr float kFarZ = 100.0f;
 // Per-eye fov of a typical HMD: wider towards the temple than the nose (radians).
 core::Fov eyeFov(int eye);
 
+// Pixels per degree at the centre of a view `width` pixels wide with this fov: the horizontal
+// focal length in pixels, width / (tan(right) - tan(left)), times pi/180.
+double centrePixelsPerDegree(const core::Fov& fov, int width);
+
+// --ppd: how much a headset at `pixelsPerDegree` (at the centre, horizontally) narrows eyeFov at
+// this width: the factor on every tangent of the fov. 1 when pixelsPerDegree <= 0 (off).
+double ppdTangentScale(double pixelsPerDegree, int width);
+
+// The fov with every tangent times `tangentScale` (the asymmetric shape and the pixel aspect kept).
+core::Fov scaleFovTangents(const core::Fov& fov, double tangentScale);
+
 struct HeadPose {
   glm::quat orientation{1, 0, 0, 0};
   glm::vec3 position{0.0f};
 };
 
-// jitterPx: the layer's sub-pixel jitter (core::jitterFov), zero for an unjittered render.
-std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h, glm::vec2 jitterPx = glm::vec2(0.0f));
+// pixelsPerDegree: --ppd (0: eyeFov as it is; else the fov's tangents and kNearZ times
+// ppdTangentScale). jitterPx: the layer's sub-pixel jitter
+// (core::jitterFov), zero for an unjittered render.
+std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h, double pixelsPerDegree,
+                                    glm::vec2 jitterPx = glm::vec2(0.0f));
 
 }  // namespace steadyxr::eval

@@ -1,4 +1,5 @@
 // steadyxr-eval: the evaluation harness's command line (see suite.h and DESIGN.md "Evaluation").
+#include "eye_rig.h"
 #include "suite.h"
 
 #include <cstdlib>
@@ -68,6 +69,12 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
   --threshold F        error-pixel threshold per channel in [0,1] (default 0.1)
   --noise F            add per-frame noise of amplitude F to every scene (the "noisy" scene is
                        the image viewer with 0.08)
+  --ppd F              a headset's pixel density: narrow each eye's fov (its tangents scaled, its
+                       shape kept) to F pixels per degree at the centre (Quest 2 ~20, Index
+                       ~14; default off: ~0.85 at 96 px, the wide fov squeezed into few pixels),
+                       so head motion moves the image by as many pixels as on a headset; the
+                       image viewer's picture moves further away to keep its pixels; image
+                       viewer and noisy only (--corpus drops the other scenes)
   --no-sweeps          skip the parameter sweeps
   --quick              small run: 1 picture, no sweeps, 16 frames, 96x96 (unless given)
   --validation         enable the Vulkan validation layer
@@ -142,6 +149,9 @@ int main(int argc, char** argv) {
         o.mipmaps = false;
       } else if (a == "--animate") {
         o.animate = next();
+      } else if (a == "--ppd") {
+        o.ppd = std::stod(next());
+        if (!(o.ppd > 0.0)) throw std::invalid_argument("ppd");
       } else if (a == "--no-sweeps") {
         o.sweeps = false;
       } else if (a == "--quick") {
@@ -174,6 +184,12 @@ int main(int argc, char** argv) {
       o.appHz <= 0 || o.displayHz < o.appHz || o.warpSteps < 0) {
     std::cerr
         << "steadyxr-eval: bad resolution/frames/rates (need >= 16x16, >= 2 frames, display >= app rate)\n";
+    return 2;
+  }
+  // The picture moves to 1.5 m / tangent scale (scene.cpp, picturePlane): keep it inside the far plane.
+  if (o.ppd > 0.0 && 1.5 / steadyxr::eval::ppdTangentScale(o.ppd, o.width) > 0.9 * steadyxr::eval::kFarZ) {
+    std::cerr << "steadyxr-eval: --ppd " << o.ppd << " at " << o.width
+              << " px puts the picture beyond the far plane (fewer ppd or more pixels)\n";
     return 2;
   }
   return steadyxr::eval::runSuite(o);

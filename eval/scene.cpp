@@ -28,13 +28,17 @@ DrawQuad quad(glm::mat4 model, uint32_t texture, glm::vec3 tint = glm::vec3(1.0f
   return q;
 }
 
-// Picture plane 1.5 m ahead, fitted into 1.6 m x 1.2 m keeping the image's aspect ratio.
-DrawQuad picturePlane(const TextureSet& t, uint32_t tex) {
+// Picture plane 1.5 m ahead, fitted into 1.6 m x 1.2 m keeping the image's aspect ratio. Under
+// --ppd it is `distanceScale` times further: a fronto-parallel plane's image scales with
+// focal length / distance, so the picture keeps its pixels while head rotation moves it by the
+// headset's pixels per degree (and the eyes' disparity and head translation by what they would
+// at that distance).
+DrawQuad picturePlane(const TextureSet& t, uint32_t tex, float distanceScale) {
   const Rgba8& img = t.images[tex];
   const float aspect = img.height > 0 ? float(img.width) / float(img.height) : 1.0f;
   glm::vec2 size(1.2f * aspect, 1.2f);
   if (size.x > 1.6f) size *= 1.6f / size.x;
-  return quad(quadModel(glm::vec3(0.0f, 0.0f, -1.5f), size), tex);
+  return quad(quadModel(glm::vec3(0.0f, 0.0f, -1.5f * distanceScale), size), tex);
 }
 
 }  // namespace
@@ -102,15 +106,23 @@ float Scene::objectSpeed(double tSec) const {
   return float(glm::length(b - a) / (2.0 * h));
 }
 
-bool makeScene(const std::string& name, const std::string& picture, const TextureSet& t, Scene* out,
-               std::string* error) {
+bool makeScene(const std::string& name, const std::string& picture, const TextureSet& t,
+               double fovTangentScale, Scene* out, std::string* error) {
+  const bool imageViewer = name == "imageviewer" || name == "noisy";
+  if (fovTangentScale != 1.0 && !imageViewer) {
+    // Its metres (fence wires, posts, a sliding picture) are sized for the wide fov: narrowed, the
+    // view would hold a piece of one quad, not the scene.
+    if (error)
+      *error = "scene '" + name + "' is sized for the default fov; --ppd runs imageviewer and noisy only";
+    return false;
+  }
   Scene s;
   s.name = name;
   const uint32_t pic = t.find(textureKey(picture));
-  if (name == "imageviewer" || name == "noisy") {
+  if (imageViewer) {
     // Seed 003's own experiment: a picture on a plane in front of the user.
     s.picture = textureKey(picture);
-    const DrawQuad plane = picturePlane(t, pic);
+    const DrawQuad plane = picturePlane(t, pic, float(1.0 / fovTangentScale));
     const float noise = name == "noisy" ? 0.08f : 0.0f;
     s.draws = [plane, noise](double) {
       DrawList d;

@@ -47,7 +47,10 @@ struct Scene {
 
 const std::vector<std::string>& sceneNames();
 // `picture` is used by the image-viewer scenes (imageviewer, noisy); textures must hold it.
-bool makeScene(const std::string& name, const std::string& picture, const TextureSet& textures, Scene* out,
-               std::string* error);
+// fovTangentScale: --ppd's narrowing of the eye fov (eye_rig.h, ppdTangentScale; 1 = off). The
+// image viewer moves its picture 1/fovTangentScale times further away, so the picture covers the
+// same pixels as without --ppd; the other scenes (geometry in metres) refuse a scale other than 1.
+bool makeScene(const std::string& name, const std::string& picture, const TextureSet& textures,
+               double fovTangentScale, Scene* out, std::string* error);
 
 }  // namespace steadyxr::eval

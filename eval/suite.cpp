@@ -160,7 +160,7 @@ int runSuite(const Options& o) {
 
   for (const Scenario& sc : scenarios) {
     Scene scene;
-    if (!makeScene(sc.scene, sc.picture, textures, &scene, &error)) {
+    if (!makeScene(sc.scene, sc.picture, textures, ppdTangentScale(o.ppd, o.width), &scene, &error)) {
       std::cerr << "steadyxr-eval: " << error << "\n";
       return 2;
     }
@@ -206,7 +206,7 @@ int runSuite(const Options& o) {
       // the IMU path's gyro), not a difference of two frames' poses.
       const float headSpeed = float(stream->headSpeedDegPerSec(std::max(0.0, t)));
       headSpeeds.push_back(headSpeed);
-      const auto cams = eyeCameras(head, o.width, o.height);
+      const auto cams = eyeCameras(head, o.width, o.height, o.ppd);
       // The layer's jitter of this frame (xrLocateViews call f), as `jitter = 1` injects it.
       const glm::vec2 jitter = core::haltonJitterPx(uint32_t(f));
       const float objSpeed = scene.objectSpeed(t);
@@ -262,7 +262,7 @@ int runSuite(const Options& o) {
       ft.dispGt.assign(ratio, ft.gt);
       for (int k = 1; k < ratio; ++k) {
         const double td = t + k / o.displayHz;
-        ft.dispCams[k] = eyeCameras(headAt(td), o.width, o.height);
+        ft.dispCams[k] = eyeCameras(headAt(td), o.width, o.height, o.ppd);
         for (int eye = 0; eye < 2; ++eye) {
           if (!renderer->renderGroundTruth(ft.dispCams[k][eye], scene.drawsAt(td), o.gtGrid,
                                            &ft.dispGt[k][eye], &error)) {
@@ -274,7 +274,7 @@ int runSuite(const Options& o) {
 
       std::array<RenderedView, 2> jittered;
       bool jitterRendered = false;
-      std::array<EyeCamera, 2> jitterCams = eyeCameras(head, o.width, o.height, jitter);
+      std::array<EyeCamera, 2> jitterCams = eyeCameras(head, o.width, o.height, o.ppd, jitter);
       std::vector<std::array<Image, 2>> frameOut(variants.size());
       for (size_t vi = 0; vi < variants.size(); ++vi) {
         Variant& v = variants[vi];
@@ -303,7 +303,7 @@ int runSuite(const Options& o) {
           for (int eye = 0; eye < 2; ++eye) {
             core::ViewFrame& view = frame.views[eye];
             view.color = v.source == 1 ? renderer->baseColor(eye) : renderer->msaaColor(v.source, eye);
-            if (sc.depthGiven) view.depth = renderer->baseDepth(eye, kNearZ, kFarZ);
+            if (sc.depthGiven) view.depth = renderer->baseDepth(eye, cams[eye].nearZ, cams[eye].farZ);
             view.pose = cams[eye].pose;
             view.fov = cams[eye].fov;  // the unjittered fov, as the layer submits after un-jittering
             if (v.jitter) view.jitterPx = jitter;

@@ -37,6 +37,8 @@ struct Options {
   bool progress = true;
   bool validation = false;
   bool quick = false;
+  // > 0: a headset's pixels per degree at the view's centre (eye_rig.h, ppdTangentScale); 0: eyeFov.
+  double ppd = 0.0;
 };
 
 // Returns the process exit code (0 on success).

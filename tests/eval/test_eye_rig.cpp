@@ -1,0 +1,91 @@
+// --ppd's fov arithmetic (eye_rig.h), checked by what it must do to pixels: a head rotation of
+// one degree moves the view's centre by F pixels, and the fov's shape is kept.
+#include "eye_rig.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include <glm/gtc/quaternion.hpp>
+
+namespace steadyxr::eval {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+// Where a world direction lands in the left eye for a head turned by yawDeg about the vertical.
+glm::vec2 pixelOfDirection(glm::vec3 dir, double yawDeg, double ppd, int w = 96, int h = 96) {
+  HeadPose head;
+  head.orientation = glm::angleAxis(float(yawDeg * kDegToRad), glm::vec3(0.0f, 1.0f, 0.0f));
+  glm::vec2 px(0.0f);
+  EXPECT_TRUE(projectDirection(eyeCameras(head, w, h, ppd)[0], dir, &px));
+  return px;
+}
+
+TEST(EvalEyeRig, DefaultFovIsUnderOnePixelPerDegreeAt96) {
+  // 96 / (tan 0.82 + tan 0.73) = 48.8 px focal length = 0.85 px per degree (s4-d's figure).
+  EXPECT_NEAR(centrePixelsPerDegree(eyeFov(0), 96), 0.8517, 1e-3);
+  EXPECT_NEAR(centrePixelsPerDegree(eyeFov(1), 96), 0.8517, 1e-3);
+}
+
+TEST(EvalEyeRig, PpdOffKeepsTheFovExactly) {
+  const auto a = eyeCameras(HeadPose{}, 96, 96, 0.0);
+  for (int eye = 0; eye < 2; ++eye) {
+    EXPECT_EQ(a[eye].fov.angleLeft, eyeFov(eye).angleLeft);
+    EXPECT_EQ(a[eye].fov.angleRight, eyeFov(eye).angleRight);
+    EXPECT_EQ(a[eye].fov.angleUp, eyeFov(eye).angleUp);
+    EXPECT_EQ(a[eye].fov.angleDown, eyeFov(eye).angleDown);
+  }
+}
+
+TEST(EvalEyeRig, OneDegreeOfYawMovesTheCentreByPpdPixels) {
+  const glm::vec3 ahead(0.0f, 0.0f, -1.0f);
+  for (const double ppd : {14.0, 20.0, 25.0}) {
+    for (const int w : {96, 256}) {
+      // A small turn (0.05 deg) so the centre's local density is what is measured.
+      const glm::vec2 still = pixelOfDirection(ahead, 0.0, ppd, w, w);
+      const glm::vec2 turned = pixelOfDirection(ahead, 0.05, ppd, w, w);
+      EXPECT_NEAR(std::fabs(turned.x - still.x) / 0.05, ppd, 0.01 * ppd) << "ppd " << ppd << " width " << w;
+      EXPECT_NEAR(turned.y, still.y, 1e-3);
+    }
+  }
+}
+
+TEST(EvalEyeRig, ShapeKeptCentreOnTheSamePixel) {
+  // Scaling every tangent keeps the asymmetric fov's centre of projection (the pixel of the
+  // straight-ahead direction) and the ratio of vertical to horizontal focal length.
+  const glm::vec3 ahead(0.0f, 0.0f, -1.0f);
+  const glm::vec2 wide = pixelOfDirection(ahead, 0.0, 0.0), narrow = pixelOfDirection(ahead, 0.0, 20.0);
+  EXPECT_NEAR(narrow.x, wide.x, 1e-3);
+  EXPECT_NEAR(narrow.y, wide.y, 1e-3);
+  const auto cams = eyeCameras(HeadPose{}, 96, 96, 20.0);
+  const core::Fov f = cams[0].fov, d = eyeFov(0);
+  auto span = [](float a, float b) { return std::tan(double(a)) - std::tan(double(b)); };
+  EXPECT_NEAR(span(f.angleUp, f.angleDown) / span(f.angleRight, f.angleLeft),
+              span(d.angleUp, d.angleDown) / span(d.angleRight, d.angleLeft), 1e-5);
+  // 96 px at 20 ppd: about 4.8 degrees across.
+  EXPECT_NEAR((f.angleRight - f.angleLeft) / kDegToRad, 4.8, 0.05);
+}
+
+TEST(EvalEyeRig, PictureMovedByTheInverseScaleKeepsItsPixels) {
+  // The image viewer's rule (scene.cpp, picturePlane): at distance 1.5 m / tangent scale the
+  // picture's corner lands on the pixel it has without --ppd, in both eyes (disparity kept).
+  const double scale = ppdTangentScale(20.0, 96);
+  const auto wide = eyeCameras(HeadPose{}, 96, 96, 0.0), narrow = eyeCameras(HeadPose{}, 96, 96, 20.0);
+  for (int eye = 0; eye < 2; ++eye) {
+    glm::vec2 a, b;
+    float wideDepth = 0, narrowDepth = 0;
+    ASSERT_TRUE(project(wide[eye], glm::vec3(0.4f, 0.3f, -1.5f), &a, &wideDepth));
+    ASSERT_TRUE(project(narrow[eye], glm::vec3(0.4f, 0.3f, float(-1.5 / scale)), &b, &narrowDepth));
+    EXPECT_NEAR(b.x, a.x, 2e-3);
+    EXPECT_NEAR(b.y, a.y, 2e-3);
+    // In front of the ground truth's background quad at raster depth 0.999 (renderer.cpp), as
+    // without --ppd: the near plane moved out with the picture.
+    EXPECT_LT(wideDepth, 0.999f);
+    EXPECT_LT(narrowDepth, 0.999f);
+  }
+}
+
+}  // namespace
+}  // namespace steadyxr::eval
