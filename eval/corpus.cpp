@@ -1,6 +1,8 @@
 #include "corpus.h"
 
+#include "eye_rig.h"
 #include "pictures.h"
+#include "scene.h"
 #include "suite.h"
 
 #include "steadyxr/imu/motion.h"
@@ -8,6 +10,7 @@
 #include <algorithm>
 #include <fstream>
 #include <iomanip>
+#include <iostream>
 #include <map>
 #include <ostream>
 
@@ -168,9 +171,18 @@ std::vector<Scenario> corpusScenarios(const Options& o) {
       }
     };
     for (const std::string& p : pictures) add("imageviewer", p, pictureClass(p));
-    if (o.ppd > 0.0) continue;  // --ppd: the image viewer only (scene.h, makeScene)
-    for (const char* scene : {"thin", "moving", "disocclusion"})
+    for (const char* scene : {"thin", "moving", "disocclusion"}) {
+      // --ppd: a scene its depth stretch would put beyond the far plane is left out (scene.h,
+      // makeScene; a head at the origin stands for the motions' first poses, which are near it).
+      Scene probe;
+      std::string refused;
+      if (o.ppd > 0.0 && !makeScene(scene, "", TextureSet{}, ppdTangentScale(o.ppd, o.width), HeadPose{},
+                                    &probe, &refused)) {
+        if (motion == motions.front()) std::cerr << "steadyxr-eval: corpus: " << refused << "; left out\n";
+        continue;
+      }
       add(scene, pictures.front(), std::string("scene:") + scene);
+    }
   }
   return out;
 }

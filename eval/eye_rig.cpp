@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 namespace steadyxr::eval {
 
 // Per-eye fov of a typical HMD: wider towards the temple than the nose (radians).
@@ -39,6 +41,13 @@ core::Fov scaleFovTangents(const core::Fov& fov, double tangentScale) {
   out.angleUp = scaled(fov.angleUp);
   out.angleDown = scaled(fov.angleDown);
   return out;
+}
+
+glm::mat4 ppdDepthStretch(const HeadPose& start, double tangentScale) {
+  const glm::mat4 toView =
+      glm::mat4_cast(glm::inverse(start.orientation)) * glm::translate(glm::mat4(1.0f), -start.position);
+  const glm::mat4 stretch = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 1.0f, float(1.0 / tangentScale)));
+  return glm::inverse(toView) * stretch * toView;
 }
 
 std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h, double pixelsPerDegree,

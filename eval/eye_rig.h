@@ -9,6 +9,7 @@
 #include <array>
 
 #include <glm/gtc/quaternion.hpp>
+#include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -36,6 +37,15 @@ struct HeadPose {
   glm::quat orientation{1, 0, 0, 0};
   glm::vec3 position{0.0f};
 };
+
+// --ppd for a scene in metres: the world map that stretches depth along `start`'s view direction
+// by 1/tangentScale about its eye centre and keeps the two lateral axes. A point at view-frame
+// (x, y, z) goes to (x, y, z / s); its tangents x/z, y/z shrink by s while the narrowed fov's
+// focal length in pixels grows by 1/s, so from `start` it lands on the pixel it had without
+// --ppd, in both eyes (they sit on the lateral axis). It is the image viewer's rule (scene.cpp,
+// picturePlane: 1.5 m / s, size kept) for any geometry. A uniform scale would not do: it keeps
+// angles, so the narrowed fov would show the scene 1/s times larger in pixels.
+glm::mat4 ppdDepthStretch(const HeadPose& start, double tangentScale);
 
 // pixelsPerDegree: --ppd (0: eyeFov as it is; else the fov's tangents and kNearZ times
 // ppdTangentScale). jitterPx: the layer's sub-pixel jitter

@@ -91,7 +91,8 @@ glm::vec3 Scene::motion(const glm::vec3& p, double tSec, double dtSec) const {
   if (!movingModel) return glm::vec3(0.0f);
   const glm::mat4 now = movingModel(tSec);
   const glm::vec4 local = glm::inverse(now) * glm::vec4(p, 1.0f);
-  // On the moving quad? (its local z is in world metres: the model does not scale z)
+  // On the moving quad? (its local z is in world metres: the model does not scale z; under --ppd
+  // the depth stretch scales it with the scene's depths)
   if (std::fabs(local.z) > 0.01f || std::fabs(local.x) > 0.52f || std::fabs(local.y) > 0.52f) {
     return glm::vec3(0.0f);
   }
@@ -107,15 +108,22 @@ float Scene::objectSpeed(double tSec) const {
 }
 
 bool makeScene(const std::string& name, const std::string& picture, const TextureSet& t,
-               double fovTangentScale, Scene* out, std::string* error) {
+               double fovTangentScale, const HeadPose& ppdStartHead, Scene* out, std::string* error) {
   const bool imageViewer = name == "imageviewer" || name == "noisy";
-  if (fovTangentScale != 1.0 && !imageViewer) {
-    // Its metres (fence wires, posts, a sliding picture) are sized for the wide fov: narrowed, the
-    // view would hold a piece of one quad, not the scene.
-    if (error)
-      *error = "scene '" + name + "' is sized for the default fov; --ppd runs imageviewer and noisy only";
-    return false;
-  }
+  // --ppd for the scenes in metres: every model matrix goes through the depth stretch. Off (scale
+  // 1) the matrices are used as they are, so every result without --ppd stays bit-identical.
+  const bool stretched = fovTangentScale != 1.0 && !imageViewer;
+  const glm::mat4 stretch = stretched ? ppdDepthStretch(ppdStartHead, fovTangentScale) : glm::mat4(1.0f);
+  auto place = [stretched, stretch](glm::mat4 model) { return stretched ? stretch * model : model; };
+  const glm::vec3 forward = ppdStartHead.orientation * glm::vec3(0.0f, 0.0f, -1.0f);
+  float farthestM = 0.0f;  // the stretched scene's depth from the start eye (far plane check)
+  auto reach = [&](const glm::mat4& model) {
+    for (const glm::vec2 corner :
+         {glm::vec2(-0.5f), glm::vec2(0.5f), glm::vec2(-0.5f, 0.5f), glm::vec2(0.5f, -0.5f)})
+      farthestM = std::max(
+          farthestM,
+          glm::dot(glm::vec3(model * glm::vec4(corner, 0.0f, 1.0f)) - ppdStartHead.position, forward));
+  };
   Scene s;
   s.name = name;
   const uint32_t pic = t.find(textureKey(picture));
@@ -149,6 +157,7 @@ bool makeScene(const std::string& name, const std::string& picture, const Textur
           quad(quadModel(glm::vec3(0.0f, -0.3f, -2.98f), glm::vec2(4.6f, 0.006f), i ? 0.3f : -0.3f), 0,
                glm::vec3(0.08f)));
     }
+    for (DrawQuad& q : quads) q.model = place(q.model);
     s.draws = [quads](double) {
       DrawList d;
       d.clearColor = glm::vec3(0.55f, 0.7f, 0.9f);
@@ -160,12 +169,15 @@ bool makeScene(const std::string& name, const std::string& picture, const Textur
     const uint32_t brick = t.find("brick");
     const uint32_t obj = t.find("coffee") ? t.find("coffee") : pic;
     s.hasMovingObject = true;
-    s.movingModel = [](double tt) {
+    // Stretched as a whole: its path's lateral metres (and so its pixels per frame) are kept.
+    s.movingModel = [place](double tt) {
       const float x = 0.5f * float(std::sin(2.0 * std::numbers::pi * 0.4 * tt));
-      return quadModel(glm::vec3(x, 0.0f, -1.5f), glm::vec2(0.6f, 0.4f));
+      return place(quadModel(glm::vec3(x, 0.0f, -1.5f), glm::vec2(0.6f, 0.4f)));
     };
-    const DrawQuad wall = quad(quadModel(glm::vec3(0.0f, 0.0f, -2.5f), glm::vec2(5.0f, 4.0f)), brick,
+    const DrawQuad wall = quad(place(quadModel(glm::vec3(0.0f, 0.0f, -2.5f), glm::vec2(5.0f, 4.0f))), brick,
                                glm::vec3(1.0f), glm::vec4(3.0f, 3.0f, 0.0f, 0.0f));
+    reach(wall.model);
+    reach(s.movingModel(0.0));
     auto model = s.movingModel;
     s.draws = [wall, obj, model](double tt) {
       DrawList d;
@@ -174,7 +186,8 @@ bool makeScene(const std::string& name, const std::string& picture, const Textur
       return d;
     };
   } else if (name == "disocclusion") {
-    // Near posts and a mid-distance panel before a far grass wall; the head sways sideways.
+    // Near posts and a mid-distance panel before a far grass wall; the head sways sideways (a
+    // lateral translation: under --ppd's depth stretch it moves the pixels it moves without).
     const uint32_t grass = t.find("grass"), brick = t.find("brick"), camera = t.find("camera");
     std::vector<DrawQuad> quads;
     quads.push_back(quad(quadModel(glm::vec3(0.0f, 0.0f, -5.0f), glm::vec2(9.0f, 7.0f)), grass,
@@ -184,6 +197,7 @@ bool makeScene(const std::string& name, const std::string& picture, const Textur
       quads.push_back(quad(quadModel(glm::vec3(-0.6f + 0.6f * i, -0.2f, -1.2f), glm::vec2(0.2f, 2.0f)), brick,
                            glm::vec3(1.0f), glm::vec4(0.2f, 1.0f, 0.0f, 0.0f)));
     }
+    for (DrawQuad& q : quads) q.model = place(q.model);
     s.draws = [quads](double) {
       DrawList d;
       d.clearColor = glm::vec3(0.5f);
@@ -195,6 +209,15 @@ bool makeScene(const std::string& name, const std::string& picture, const Textur
     };
   } else {
     if (error) *error = "unknown scene '" + name + "'";
+    return false;
+  }
+  if (s.draws && !s.movingModel)
+    for (const DrawQuad& q : s.draws(0.0).quads) reach(q.model);
+  if (stretched && farthestM > 0.9f * kFarZ) {
+    if (error)
+      *error = "scene '" + name + "' stretched for --ppd reaches " + std::to_string(int(farthestM)) +
+               " m, beyond 90 % of the far plane (" + std::to_string(int(kFarZ)) +
+               " m): fewer ppd or more pixels";
     return false;
   }
   *out = std::move(s);

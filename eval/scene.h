@@ -3,6 +3,7 @@
 // that seed 004's forward warp needs.
 #pragma once
 
+#include "eye_rig.h"
 #include "image.h"
 #include "renderer.h"
 #include "warp.h"
@@ -49,8 +50,11 @@ const std::vector<std::string>& sceneNames();
 // `picture` is used by the image-viewer scenes (imageviewer, noisy); textures must hold it.
 // fovTangentScale: --ppd's narrowing of the eye fov (eye_rig.h, ppdTangentScale; 1 = off). The
 // image viewer moves its picture 1/fovTangentScale times further away, so the picture covers the
-// same pixels as without --ppd; the other scenes (geometry in metres) refuse a scale other than 1.
+// same pixels as without --ppd; the other scenes (thin, moving, disocclusion) are stretched in depth
+// about `ppdStartHead` (the first frame's head pose) by ppdDepthStretch (eye_rig.h), so that from
+// it every frame is the picture it is without --ppd; refused (false, *error) where the stretched
+// scene would reach beyond 90 % of the far plane.
 bool makeScene(const std::string& name, const std::string& picture, const TextureSet& textures,
-               double fovTangentScale, Scene* out, std::string* error);
+               double fovTangentScale, const HeadPose& ppdStartHead, Scene* out, std::string* error);
 
 }  // namespace steadyxr::eval

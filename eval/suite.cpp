@@ -115,6 +115,14 @@ int runSuite(const Options& o) {
   for (Variant& v : variants) {
     anyJitter = anyJitter || v.jitter;
     if (v.oracle) continue;
+    if (o.ppd > 0.0) {
+      // The layer's assumed distances stand for a real scene's; under --ppd every scene's depths
+      // are 1/s times its own (scene.h, makeScene), so are these: the no-depth stereo disparity
+      // and the nearest-depth blur guard then come out in the pixels they have without --ppd.
+      const float depthScale = float(1.0 / ppdTangentScale(o.ppd, o.width));
+      v.params.stereoFarDistanceM *= depthScale;
+      v.params.steadyNearestDepthM *= depthScale;
+    }
     v.filter = core::Filter::create(*ctx, v.params, &error);
     if (!v.filter) {
       std::cerr << "steadyxr-eval: filter '" << v.name << "': " << error << "\n";
@@ -159,11 +167,6 @@ int runSuite(const Options& o) {
   animationWindow.y0 = o.height / 2 - animationWindow.height / 2;
 
   for (const Scenario& sc : scenarios) {
-    Scene scene;
-    if (!makeScene(sc.scene, sc.picture, textures, ppdTangentScale(o.ppd, o.width), &scene, &error)) {
-      std::cerr << "steadyxr-eval: " << error << "\n";
-      return 2;
-    }
     std::unique_ptr<imu::MotionStream> stream =
         sc.trace ? imu::loadTrace(sc.motion, &error) : imu::makePreset(sc.motion, o.seed, &error);
     if (!stream) {
@@ -171,6 +174,19 @@ int runSuite(const Options& o) {
       return 2;
     }
     const double start = sc.startSec >= 0.0 ? sc.startSec : o.startSec;
+    Scene scene;
+    // --ppd stretches a scene in metres about the first frame's head (scene.h, makeScene).
+    // (Asked only under --ppd: without it the stream sees the calls it always saw.)
+    HeadPose ppdStartHead;
+    if (o.ppd > 0.0) {
+      const imu::MotionState firstMotion = stream->at(std::max(0.0, start - sc.leadSec));
+      ppdStartHead = HeadPose{glm::normalize(firstMotion.orientation), firstMotion.position};
+    }
+    if (!makeScene(sc.scene, sc.picture, textures, ppdTangentScale(o.ppd, o.width), ppdStartHead, &scene,
+                   &error)) {
+      std::cerr << "steadyxr-eval: " << error << "\n";
+      return 2;
+    }
     const double lastSec =
         start - sc.leadSec + (o.frames - 1) * dt + std::max(o.warpSteps, ratio) / o.displayHz;
     if (stream->validUntilSec() < lastSec) {
