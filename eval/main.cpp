@@ -73,8 +73,9 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        shape kept) to F pixels per degree at the centre (Quest 2 ~20, Index
                        ~14; default off: ~0.85 at 96 px, the wide fov squeezed into few pixels),
                        so head motion moves the image by as many pixels as on a headset; the
-                       image viewer's picture moves further away to keep its pixels; image
-                       viewer and noisy only (--corpus drops the other scenes)
+                       image viewer's picture moves further away and the scenes in metres are
+                       stretched in depth to keep their pixels; a scene that would pass the far
+                       plane is refused (--corpus leaves it out)
   --no-sweeps          skip the parameter sweeps
   --quick              small run: 1 picture, no sweeps, 16 frames, 96x96 (unless given)
   --validation         enable the Vulkan validation layer
