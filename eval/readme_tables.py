@@ -123,7 +123,9 @@ def ablation(out):
     """One row per method of the run (sweeps included): mean RMSE / none's and / the better of taa
     and taa+jitter, cases above none's, cases with a frame above 1.10x none's, the worst frame, the
     stereo error / none's (means over the cases), and the median temporal error / none's over the
-    low-head-speed cases (shimmer)."""
+    low-head-speed cases (shimmer). Then the shimmer target per method (cases at or below 40 % of
+    none's, the median with and without the first 16 frames, MTCD's median beside it) and the
+    temporal error of the truth rounded to 8 bits, the floor of any 8-bit output."""
     cases = {}
     with open(f"{out}/results.csv", newline="") as f:
         for r in csv.DictReader(f):
@@ -134,7 +136,7 @@ def ablation(out):
     print("|---" * 8 + "|")
     shimmer_lines = []
     for m in methods:
-        rel, best, st, shimmer = [], [], [], []
+        rel, best, st, shimmer, mtcd = [], [], [], [], []
         above = frames = 0
         worst = 0.0
         for c in cases.values():
@@ -152,6 +154,8 @@ def ablation(out):
                 st.append(float(r["stereo_error"]) / float(n["stereo_error"]))
             if r["low_speed"] == "1" and float(n["temporal_error"]) > 0:
                 shimmer.append(float(r["temporal_error"]) / float(n["temporal_error"]))
+            if r["low_speed"] == "1" and float(n["mtcd"]) > 0:
+                mtcd.append(float(r["mtcd"]) / float(n["mtcd"]))
         if not rel:
             continue
         med = median(shimmer) if shimmer else float("nan")
@@ -161,7 +165,8 @@ def ablation(out):
         met = sum(v <= SHIMMER_TARGET for v in shimmer)
         settled = settled_shimmer(out, cases, m)
         shimmer_lines.append(f"{m}: {met}/{len(shimmer)} cases, median {med:.2f}" +
-                             (f", after the first {SETTLE_FRAMES} frames {median(settled):.2f}" if settled else ""))
+                             (f", after the first {SETTLE_FRAMES} frames {median(settled):.2f}" if settled else "") +
+                             (f" (MTCD {median(mtcd):.2f})" if mtcd else ""))
     floors = [float(c["none"]["temporal_error_truth8"]) / float(c["none"]["temporal_error"])
               for c in cases.values() if "none" in c and c["none"]["low_speed"] == "1"
               and float(c["none"]["temporal_error"]) > 0 and "temporal_error_truth8" in c["none"]]
