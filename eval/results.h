@@ -14,9 +14,9 @@ struct ResultRow {
   bool sweep = false, stereo = false, jitter = false, depthGiven = true;
   int source = 1;
   double mtcd = 0, mtcdDisplay = 0, rmse = 0, ssim = 0, rmseDisplay = 0, errPxDisplayPct = 0;
-  double temporalError = 0;        // vs ground truth, 8-bit units (metrics.h)
-  double temporalErrorTruth8 = 0;  // the same of the truth rounded to 8 bits: the floor of any 8-bit output
-  double stereoError = 0;          // per pixel, 8-bit units (metrics.h)
+  double temporalError = 0;                                // vs ground truth, 8-bit units (metrics.h)
+  double temporalErrorTruth8 = 0;                          // of the truth rounded to 8 bits (the floor)
+  double stereoError = 0;                                  // per pixel, 8-bit units (metrics.h)
   double stereoDiff = 0, stereoDiffGt = 0, stereoGap = 0;  // the former image-wide measure, kept in the CSV
   double ghostWorstRatio = 0;                              // worst frame's RMSE / none's in that frame
   int ghostWorstFrame = -1, recoveryFrames = 0;            // frames after a motion change until <= none
