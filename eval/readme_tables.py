@@ -12,9 +12,9 @@ import csv
 import sys
 
 SUITE_METHODS = ["none", "fxaa", "msaa4", "taa", "taa+jitter", "hmtaa", "vtaa", "hybrid",
-                 "hybrid+stereo", "default", "default+jitter", "oracle"]
+                 "hybrid+stereo", "default", "default+jitter", "oracle", "oracle+jitter"]
 CORPUS_METHODS = ["fxaa", "taa", "taa+jitter", "hmtaa", "hybrid", "default", "default+jitter",
-                  "oracle"]
+                  "oracle", "oracle+jitter"]
 
 
 def rows_by_case(path):
