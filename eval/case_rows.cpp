@@ -44,6 +44,7 @@ ResultRow resultRow(const Scenario& sc, const Variant& v, const Accum& a, const 
   r.source = v.source;
   r.mtcd = safeDiv(a.mtcdSum, a.mtcdN);
   r.temporalError = safeDiv(a.tempErrSum, a.tempErrN);
+  r.temporalErrorTruth8 = facts.truth8TemporalError;
   r.mtcdDisplay = safeDiv(a.mtcdDispSum, a.mtcdDispN);
   r.rmse = std::sqrt(safeDiv(a.sqErr, a.sqN));
   r.ssim = safeDiv(a.ssimSum, a.ssimN);

@@ -19,6 +19,7 @@ struct CaseFacts {
   double headSpeedP95 = 0;         // deg/s
   bool staticScene = true;         // no moving object
   bool cpuDevice = false;          // the device is a CPU (lavapipe): cost is wall time
+  double truth8TemporalError = 0;  // temporal error of the 8-bit-rounded truth (metrics.h roundTo8Bit)
 };
 
 // The frames of a case at which its head motion changes: a preset's own change times (the first

@@ -24,8 +24,8 @@ namespace {
 constexpr double kPreRollSec = 0.5;
 
 // The methods whose mean RMSE the corpus table shows, relative to none's.
-const std::vector<std::string> kTableMethods = {"fxaa",   "taa",     "taa+jitter",     "hmtaa",
-                                                "hybrid", "default", "default+jitter", "oracle"};
+const std::vector<std::string> kTableMethods = {
+    "fxaa", "taa", "taa+jitter", "hmtaa", "hybrid", "default", "default+jitter", "oracle", "oracle+jitter"};
 
 struct Group {
   int cases = 0;
@@ -93,8 +93,9 @@ const std::vector<std::string>& corpusPictures() {
 }
 
 const std::vector<std::string>& corpusMethods() {
-  static const std::vector<std::string> methods = {
-      "none", "fxaa", "taa", "taa+jitter", "hmtaa", "hybrid", "default", "default+jitter", "oracle"};
+  static const std::vector<std::string> methods = {"none",   "fxaa",         "taa",     "taa+jitter",
+                                                   "hmtaa",  "hybrid",       "default", "default+jitter",
+                                                   "oracle", "oracle+jitter"};
   return methods;
 }
 

@@ -40,7 +40,8 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
   --methods LIST       none,fxaa,msaa2,msaa4,taa,hmtaa,vtaa,hybrid, each also <m>+stereo,
                        stereo, default; the temporal ones and default also <m>+jitter (the
                        layer's Halton(2,3) jitter, undone through ViewFrame::jitterPx); oracle
-                       (static scenes: exact reprojection, 1/N over 16 frames, on the CPU);
+                       (static scenes: exact reprojection, 1/N over 16 frames, on the CPU;
+                       the unjittered frames) and oracle+jitter (the jittered frames);
                        sweeps as <m>@key=value[@key=value] with keys
                        hmax,wmin,wlb,amin,alpha,gamma,beta,ivbeta,d,catmull and steady's
                        floor,conf,reject,boxcur,clip,blur,footprint,fpenc,bluraxis,near,interp,

@@ -177,6 +177,12 @@ double temporalErrorVsTruth(const Image& previousOut, const Image& out, const Im
   return n ? sum / static_cast<double>(n) : 0.0;
 }
 
+Image roundTo8Bit(const Image& img) {
+  Image out = img;
+  for (float& v : out.rgb) v = std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
+  return out;
+}
+
 double stereoErrorPerPixel(const Image& leftOut, const Image& rightOut, const Image& leftTruth,
                            const Image& rightTruth, const DepthMap& leftDepth, const EyeCamera& leftCam,
                            const DepthMap& rightDepth, const EyeCamera& rightCam,

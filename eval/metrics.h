@@ -43,6 +43,14 @@ StereoDifference stereoDifference(const Image& left, const DepthMap& leftDepth, 
 double temporalErrorVsTruth(const Image& previousOut, const Image& out, const Image& previousTruth,
                             const Image& truth);
 
+// The image as an 8-bit target holds it: every channel rounded to the nearest of the 256 levels
+// (the eval reads every method's output back from an R8G8B8A8 image; the ground truth is float).
+// The temporal error of the rounded truth against the truth is what a perfect 8-bit output
+// scores: the rounding flips a level wherever the truth crosses a level boundary, however small
+// its change, so where the truth hardly moves (sub-pixel tremor at a low pixel density) this
+// floor is a large part of `none`'s temporal error.
+Image roundTo8Bit(const Image& img);
+
 // Per-pixel stereo error (issue 13): over the left-eye pixels the right eye also sees (by the
 // ground truth's depth, as stereoDifference), D(x) = L(x) - R(q(x)) is the reprojected left-right
 // difference; the error is the mean RGB Euclidean norm of D_method - D_truth. Zero when the

@@ -12,9 +12,9 @@ import csv
 import sys
 
 SUITE_METHODS = ["none", "fxaa", "msaa4", "taa", "taa+jitter", "hmtaa", "vtaa", "hybrid",
-                 "hybrid+stereo", "default", "default+jitter", "oracle"]
+                 "hybrid+stereo", "default", "default+jitter", "oracle", "oracle+jitter"]
 CORPUS_METHODS = ["fxaa", "taa", "taa+jitter", "hmtaa", "hybrid", "default", "default+jitter",
-                  "oracle"]
+                  "oracle", "oracle+jitter"]
 
 
 def rows_by_case(path):
@@ -88,11 +88,44 @@ def corpus(out):
               f"{d['default_max_recovery_frames']} | {d['default_above_none']} / {d['default_above_taa']} |")
 
 
+SHIMMER_TARGET = 0.40  # issue 14: temporal error <= 40 % of none's in every low-head-speed case
+SETTLE_FRAMES = 16  # the oracle's window (eval/oracle.h): the first frames fill every history
+
+
+def median(v):
+    v = sorted(v)
+    return (v[len(v) // 2] + v[(len(v) - 1) // 2]) / 2
+
+
+def settled_shimmer(out, cases, method):
+    """Per low-head-speed case, method's mean temporal error over the frames from SETTLE_FRAMES on
+    relative to none's (timeseries.csv): the shimmer once the start-up transient is over. Empty
+    without a timeseries."""
+    try:
+        with open(f"{out}/timeseries.csv", newline="") as f:
+            sums = {}
+            for r in csv.DictReader(f):
+                if r["method"] in (method, "none") and r["temporal_error"] and int(r["frame"]) >= SETTLE_FRAMES:
+                    acc = sums.setdefault((r["scenario"], r["method"]), [0.0, 0])
+                    acc[0] += float(r["temporal_error"])
+                    acc[1] += 1
+    except FileNotFoundError:
+        return []
+    ratios = []
+    for name, c in cases.items():
+        m, n = sums.get((name, method)), sums.get((name, "none"))
+        if "none" in c and c["none"]["low_speed"] == "1" and m and n and n[0] > 0:
+            ratios.append((m[0] / m[1]) / (n[0] / n[1]))
+    return ratios
+
+
 def ablation(out):
     """One row per method of the run (sweeps included): mean RMSE / none's and / the better of taa
     and taa+jitter, cases above none's, cases with a frame above 1.10x none's, the worst frame, the
     stereo error / none's (means over the cases), and the median temporal error / none's over the
-    low-head-speed cases (shimmer)."""
+    low-head-speed cases (shimmer). Then the shimmer target per method (cases at or below 40 % of
+    none's, the median with and without the first 16 frames, MTCD's median beside it) and the
+    temporal error of the truth rounded to 8 bits, the floor of any 8-bit output."""
     cases = {}
     with open(f"{out}/results.csv", newline="") as f:
         for r in csv.DictReader(f):
@@ -101,8 +134,9 @@ def ablation(out):
     print("| variant | RMSE / none | RMSE / best taa | cases > none | cases with a frame > 1.1× none "
           "| worst frame | stereo error / none | shimmer / none |")
     print("|---" * 8 + "|")
+    shimmer_lines = []
     for m in methods:
-        rel, best, st, shimmer = [], [], [], []
+        rel, best, st, shimmer, mtcd = [], [], [], [], []
         above = frames = 0
         worst = 0.0
         for c in cases.values():
@@ -120,13 +154,29 @@ def ablation(out):
                 st.append(float(r["stereo_error"]) / float(n["stereo_error"]))
             if r["low_speed"] == "1" and float(n["temporal_error"]) > 0:
                 shimmer.append(float(r["temporal_error"]) / float(n["temporal_error"]))
+            if r["low_speed"] == "1" and float(n["mtcd"]) > 0:
+                mtcd.append(float(r["mtcd"]) / float(n["mtcd"]))
         if not rel:
             continue
-        shimmer.sort()
-        med = (shimmer[len(shimmer) // 2] + shimmer[(len(shimmer) - 1) // 2]) / 2 if shimmer else float("nan")
+        med = median(shimmer) if shimmer else float("nan")
         mean = lambda v: sum(v) / len(v) if v else float("nan")
         print(f"| {m} ({len(rel)} cases) | {mean(rel):.3f} | {mean(best):.3f} | {above} | {frames} | "
               f"{worst:.2f}× | {mean(st):.3f} | {med:.2f} |")
+        met = sum(v <= SHIMMER_TARGET for v in shimmer)
+        settled = settled_shimmer(out, cases, m)
+        shimmer_lines.append(f"{m}: {met}/{len(shimmer)} cases, median {med:.2f}" +
+                             (f", after the first {SETTLE_FRAMES} frames {median(settled):.2f}" if settled else "") +
+                             (f" (MTCD {median(mtcd):.2f})" if mtcd else ""))
+    floors = [float(c["none"]["temporal_error_truth8"]) / float(c["none"]["temporal_error"])
+              for c in cases.values() if "none" in c and c["none"]["low_speed"] == "1"
+              and float(c["none"]["temporal_error"]) > 0 and "temporal_error_truth8" in c["none"]]
+    print()
+    print(f"Shimmer target (temporal error ≤ {SHIMMER_TARGET:.2f} of none's in every low-head-speed case), "
+          "cases met: " + "; ".join(shimmer_lines) + ".")
+    if floors:
+        print(f"The truth rounded to 8 bits (what a perfect 8-bit output scores): median {median(floors):.2f} "
+              f"of none's temporal error, above {SHIMMER_TARGET:.2f} in {sum(f > SHIMMER_TARGET for f in floors)} "
+              f"of {len(floors)} low-head-speed cases.")
 
 
 if __name__ == "__main__":

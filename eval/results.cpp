@@ -53,7 +53,7 @@ void writeResultsCsv(const std::string& path, const std::vector<ResultRow>& rows
        "stereo_error,stereo_diff,stereo_diff_gt,stereo_gap,ghost_worst_ratio,ghost_worst_frame,recovery_"
        "frames,"
        "recovered,motion_changes,head_speed_p95,low_speed,static_scene,gpu_ms,gpu_temporal_ms,gpu_stereo_ms,"
-       "gpu_other_ms,render_ms,cost_ms,cpu_us\n";
+       "gpu_other_ms,render_ms,cost_ms,cpu_us,temporal_error_truth8\n";
   for (const ResultRow& r : rows) {
     f << csvEscape(r.scenario) << ',' << r.scene << ',' << csvEscape(r.motion) << ',' << r.picture << ','
       << r.motionClass << ',' << r.pictureClass << ',' << r.method << ',' << r.filterMethod << ',' << r.sweep
@@ -65,7 +65,7 @@ void writeResultsCsv(const std::string& path, const std::vector<ResultRow>& rows
       << r.recoveryFrames << ',' << r.recovered << ',' << r.motionChanges << ',' << fmt(r.headSpeedP95, 6)
       << ',' << r.lowSpeed << ',' << r.staticScene << ',' << fmt(r.gpuMs, 6) << ',' << fmt(r.gpuTemporalMs, 6)
       << ',' << fmt(r.gpuStereoMs, 6) << ',' << fmt(r.gpuOtherMs, 6) << ',' << fmt(r.renderMs, 6) << ','
-      << fmt(r.costMs, 6) << ',' << fmt(r.cpuUs, 6) << '\n';
+      << fmt(r.costMs, 6) << ',' << fmt(r.cpuUs, 6) << ',' << fmt(r.temporalErrorTruth8, 6) << '\n';
   }
 }
 
@@ -91,6 +91,7 @@ void writeResultsJson(const std::string& path, const Options& o, const std::vect
       << ", \"stereo\": " << boolStr(r.stereo) << ", \"jitter\": " << boolStr(r.jitter)
       << ", \"depth_given\": " << boolStr(r.depthGiven) << ", \"samples\": " << r.source
       << ", \"mtcd\": " << fmt(r.mtcd, 6) << ", \"temporal_error\": " << fmt(r.temporalError, 6)
+      << ", \"temporal_error_truth8\": " << fmt(r.temporalErrorTruth8, 6)
       << ", \"mtcd_display\": " << fmt(r.mtcdDisplay, 6) << ", \"rmse\": " << fmt(r.rmse, 6)
       << ", \"ssim\": " << fmt(r.ssim, 6) << ", \"rmse_display\": " << fmt(r.rmseDisplay, 6)
       << ", \"error_pixels_display_pct\": " << fmt(r.errPxDisplayPct, 6)

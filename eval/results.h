@@ -15,6 +15,7 @@ struct ResultRow {
   int source = 1;
   double mtcd = 0, mtcdDisplay = 0, rmse = 0, ssim = 0, rmseDisplay = 0, errPxDisplayPct = 0;
   double temporalError = 0;                                // vs ground truth, 8-bit units (metrics.h)
+  double temporalErrorTruth8 = 0;                          // of the truth rounded to 8 bits (the floor)
   double stereoError = 0;                                  // per pixel, 8-bit units (metrics.h)
   double stereoDiff = 0, stereoDiffGt = 0, stereoGap = 0;  // the former image-wide measure, kept in the CSV
   double ghostWorstRatio = 0;                              // worst frame's RMSE / none's in that frame

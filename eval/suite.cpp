@@ -111,9 +111,7 @@ int runSuite(const Options& o) {
               << device << "\n";
     return true;
   });
-  bool anyJitter = false;
   for (Variant& v : variants) {
-    anyJitter = anyJitter || v.jitter;
     if (v.oracle) continue;
     if (o.ppd > 0.0) {
       // The layer's assumed distances stand for a real scene's; under --ppd every scene's depths
@@ -157,7 +155,10 @@ int runSuite(const Options& o) {
   const int ratio = std::max(1, int(std::lround(o.displayHz / o.appHz)));
   Progress progress(o.progress, int(scenarios.size()) * o.frames);
   int framesDone = 0;
-  Oracle oracle(!o.unorm);
+  // One oracle per input: `oracle` takes the unjittered frames the default filters, `oracle+jitter`
+  // the layer's jittered ones, whichever other methods the run has (its figures must not depend
+  // on the method list).
+  std::array<Oracle, 2> oracles{Oracle(!o.unorm), Oracle(!o.unorm)};
   const CropWindow cropWindow = centreCrop(o.width, o.height);
   // The animation's crop: an eighth of the image (a 40-frame GIF of four fifth-crops is 2 MB).
   CropWindow animationWindow = cropWindow;
@@ -203,9 +204,10 @@ int runSuite(const Options& o) {
     for (Variant& v : variants) {
       if (v.filter) v.filter->reset();
     }
-    oracle.reset();
+    for (Oracle& oracle : oracles) oracle.reset();
     const bool oracleHere = !scene.hasMovingObject;
     double gtStereoSum = 0, gtStereoN = 0;
+    double truth8TempErrSum = 0, truth8TempErrN = 0;  // the 8-bit floor of the temporal error (metrics.h)
     std::vector<double> headSpeeds;
     FrameTruth ft;
     std::vector<std::array<Image, 2>> lastOut(variants.size()), worstOut(variants.size());
@@ -272,6 +274,11 @@ int runSuite(const Options& o) {
           stereoDifference(ft.gt[0], base[0].depth, cams[0], ft.gt[1], base[1].depth, cams[1]);
       gtStereoSum += gtSd.meanSquared;
       gtStereoN += 1;
+      for (int eye = 0; eye < 2 && !ft.prevGt[eye].empty(); ++eye) {
+        truth8TempErrSum += 255.0 * temporalErrorVsTruth(roundTo8Bit(ft.prevGt[eye]), roundTo8Bit(ft.gt[eye]),
+                                                         ft.prevGt[eye], ft.gt[eye]);
+        truth8TempErrN += 1;
+      }
 
       // Display stage references: head poses and ground truth at the display times in between.
       ft.dispCams.assign(ratio, cams);
@@ -297,7 +304,7 @@ int runSuite(const Options& o) {
         Accum& a = acc[vi];
         if (!active(v)) continue;
         std::array<Image, 2> out;
-        if ((v.jitter || (v.oracle && anyJitter)) && !jitterRendered) {
+        if (v.jitter && !jitterRendered) {
           // The jittered app frame: what the app renders with the fov the layer handed it.
           for (int eye = 0; eye < 2; ++eye) {
             if (!renderer->renderBase(eye, jitterCams[eye], drawsOf(eye), &jittered[eye], nullptr, &error)) {
@@ -308,11 +315,11 @@ int runSuite(const Options& o) {
           jitterRendered = true;
         }
         if (v.oracle) {
-          const auto& src = anyJitter ? jittered : base;
-          const auto& srcCams = anyJitter ? jitterCams : cams;
+          const auto& src = v.jitter ? jittered : base;
+          const auto& srcCams = v.jitter ? jitterCams : cams;
           for (int eye = 0; eye < 2; ++eye) {
-            out[eye] =
-                oracle.step(eye, src[eye].color, src[eye].depth, srcCams[eye], base[eye].depth, cams[eye]);
+            out[eye] = oracles[v.jitter].step(eye, src[eye].color, src[eye].depth, srcCams[eye],
+                                              base[eye].depth, cams[eye]);
           }
         } else {
           core::StereoFrame frame;
@@ -423,7 +430,10 @@ int runSuite(const Options& o) {
     // Rows of this scenario.
     const CaseFacts facts{safeDiv(gtStereoSum, gtStereoN),
                           motionChangeFrames(sc, *stream, headSpeeds, start - sc.leadSec, dt, o.frames),
-                          percentile(headSpeeds, 0.95), !scene.hasMovingObject, ctx->isCpuDevice()};
+                          percentile(headSpeeds, 0.95),
+                          !scene.hasMovingObject,
+                          ctx->isCpuDevice(),
+                          safeDiv(truth8TempErrSum, truth8TempErrN)};
     for (size_t vi = 0; vi < variants.size(); ++vi) {
       if (!active(variants[vi])) continue;
       rows.push_back(resultRow(sc, variants[vi], acc[vi], noneIndex >= 0 ? &acc[noneIndex] : nullptr, facts));

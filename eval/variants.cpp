@@ -18,6 +18,7 @@ std::vector<std::string> defaultMethods(bool sweeps) {
   for (const char* base : {"taa", "hmtaa", "vtaa", "hybrid", "steady", "default"})
     m.push_back(std::string(base) + "+jitter");
   m.push_back("oracle");
+  m.push_back("oracle+jitter");
   if (sweeps) {
     for (const char* s :
          {"hmtaa@hmax=10", "hmtaa@hmax=50", "hmtaa@wmin=0.15", "hmtaa@wmin=0.5", "taa@alpha=0.05",
@@ -41,8 +42,9 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
   }
   std::string base = parts[0];
   v->source = 1;
-  if (base == "oracle") {
+  if (base == "oracle" || base == "oracle+jitter") {
     v->oracle = true;
+    v->jitter = base == "oracle+jitter";  // the layer's jittered frames, else the unjittered ones
     v->name = spec;
     v->params = *core::applyMethodName("none");
     if (parts.size() > 1) {

@@ -13,7 +13,7 @@ exe, out, plot = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(out, ignore_errors=True)
 cmd = [exe, "--out", out, "--resolution", "48x48", "--frames", "4", "--gt-grid", "2", "--warp-steps", "2",
        "--scenes", "imageviewer,moving", "--motions", "fixation", "--images", "astronaut",
-       "--methods", "none,msaa4,taa,taa+jitter,hmtaa+stereo,default,oracle,hmtaa@hmax=10", "--no-progress"]
+       "--methods", "none,msaa4,taa,taa+jitter,hmtaa+stereo,default,oracle,oracle+jitter,hmtaa@hmax=10", "--no-progress"]
 # Under the sanitizer build, leak reports would come from the Vulkan driver's (Mesa/LLVM)
 # process-lifetime allocations, not from steadyxr: keep ASan's error checks, drop leak checks.
 env = dict(os.environ)
@@ -30,8 +30,9 @@ for name in ("results.csv", "results.json", "timeseries.csv", "warp_errors.csv")
 with open(os.path.join(out, "results.csv"), newline="") as f:
     rows = list(csv.DictReader(f))
 # The oracle runs on the static scene only (the moving object has no exact reprojection).
-assert len(rows) == 2 * 7 + 1, f"expected 15 result rows, got {len(rows)}"
-assert [r["scenario"] for r in rows if r["method"] == "oracle"] == ["imageviewer-fixation-astronaut"]
+assert len(rows) == 2 * 7 + 2, f"expected 16 result rows, got {len(rows)}"
+for oracle in ("oracle", "oracle+jitter"):
+    assert [r["scenario"] for r in rows if r["method"] == oracle] == ["imageviewer-fixation-astronaut"]
 text_cols = {"scenario", "scene", "motion", "picture", "method", "filter_method", "motion_class", "picture_class"}
 for r in rows:
     for k, v in r.items():
@@ -47,6 +48,24 @@ assert "[MET]" in res.stdout or "[MISSED]" in res.stdout, "target lines missing"
 by = {(r["scenario"], r["method"]): r for r in rows}
 sc = "imageviewer-fixation-astronaut"
 assert by[(sc, "taa")]["rmse"] != by[(sc, "taa+jitter")]["rmse"]
+# The oracle takes the unjittered frames, oracle+jitter the jittered ones, whatever else the run has.
+assert by[(sc, "oracle")]["rmse"] != by[(sc, "oracle+jitter")]["rmse"]
+# ... and the unjittered oracle's figures do not depend on the other methods of the run (before,
+# any jittered method in the list switched it to the jittered frames).
+alone = out + "_oracle_alone"
+shutil.rmtree(alone, ignore_errors=True)
+cmd_alone = list(cmd)
+cmd_alone[cmd.index("--out") + 1] = alone
+cmd_alone[cmd.index("--methods") + 1] = "none,oracle"
+res2 = subprocess.run(cmd_alone, capture_output=True, text=True, timeout=200, env=env)
+assert res2.returncode == 0, res2.stderr[-2000:]
+with open(os.path.join(alone, "results.csv"), newline="") as f:
+    alone_oracle = [r for r in csv.DictReader(f) if r["method"] == "oracle"]
+assert [r["rmse"] for r in alone_oracle] == [by[(sc, "oracle")]["rmse"]], "oracle depends on the method list"
+# The 8-bit floor of the temporal error is a fact of the case: the same in every method's row.
+for s in {r["scenario"] for r in rows}:
+    floors = {r["temporal_error_truth8"] for r in rows if r["scenario"] == s}
+    assert len(floors) == 1 and float(floors.pop()) >= 0, f"temporal_error_truth8 differs in {s}"
 for r in rows:
     assert float(r["temporal_error"]) >= 0 and float(r["stereo_error"]) >= 0
     assert float(r["ghost_worst_ratio"]) > 0

@@ -184,6 +184,29 @@ TEST(EvalTemporalError, ShimmerOverStillTruthEqualsMtcd) {
   EXPECT_NEAR(temporalErrorVsTruth(o0, o1, g, g), temporalColorDifference(o0, o1), 1e-12);
 }
 
+TEST(EvalTemporalError, RoundedTruthFlipsALevelWhereTheTruthCrossesABoundary) {
+  // Two pixels whose truth rises by 0.2 of an 8-bit level: pixel 0 from 100.4 to 100.6 crosses
+  // the rounding boundary at 100.5, so its rounded value jumps a whole level (error 1 - 0.2);
+  // pixel 1 from 100.1 to 100.3 stays on level 100 (error 0.2, the change it misses). Mean over
+  // the two pixels, one channel each: (0.8 + 0.2) / 2 levels.
+  Image g0(2, 1), g1(2, 1);
+  g0.at(0, 0)[0] = 100.4f / 255.0f;
+  g1.at(0, 0)[0] = 100.6f / 255.0f;
+  g0.at(1, 0)[0] = 100.1f / 255.0f;
+  g1.at(1, 0)[0] = 100.3f / 255.0f;
+  const Image q0 = roundTo8Bit(g0), q1 = roundTo8Bit(g1);
+  EXPECT_FLOAT_EQ(q0.at(0, 0)[0] * 255.0f, 100.0f);
+  EXPECT_FLOAT_EQ(q1.at(0, 0)[0] * 255.0f, 101.0f);
+  EXPECT_FLOAT_EQ(q1.at(1, 0)[0] * 255.0f, 100.0f);
+  EXPECT_NEAR(255.0 * temporalErrorVsTruth(q0, q1, g0, g1), 0.5, 1e-4);
+  // Out-of-range values clamp to the ends, as a UNORM target stores them.
+  Image wide(1, 1);
+  wide.at(0, 0)[0] = -0.2f;
+  wide.at(0, 0)[1] = 1.3f;
+  EXPECT_FLOAT_EQ(roundTo8Bit(wide).at(0, 0)[0], 0.0f);
+  EXPECT_FLOAT_EQ(roundTo8Bit(wide).at(0, 0)[1], 1.0f);
+}
+
 struct StereoRig {
   static constexpr int kSize = 32;
   EyeCamera left, right;
