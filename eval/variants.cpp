@@ -107,6 +107,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->stereoBetaMin = value;
     else if (key == "ivbeta")  // after steady: stereo beta from inverse error variances, 0 = Eq. 4
       params->stereoInverseVariance = value != 0.0f;
+    else if (key == "tapcurv")  // after steady: the other eye's tap corrected by this eye's curvature
+      params->stereoTapCurvature = value != 0.0f;
     else if (key == "d")
       params->sampleD[0] = value;
     else if (key == "catmull")
@@ -143,8 +145,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
           value != 0.0f ? core::HistoryFormat::Rgba8Dithered : core::HistoryFormat::Rgba8Nearest;
     else {
       *error = "unknown parameter '" + key +
-               "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, d, catmull, floor, conf, reject, clip, "
-               "blur, footprint, fpenc, bluraxis, jrecentre, near, "
+               "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, tapcurv, d, catmull, floor, conf, "
+               "reject, clip, blur, footprint, fpenc, bluraxis, jrecentre, near, "
                "interp, history=16|8, dither after history=8)";
       return false;
     }

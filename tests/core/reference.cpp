@@ -303,6 +303,19 @@ float disparitySpreadPx2(const core::Params& p, const RefView& selfView, const R
   return px * px;
 }
 
+// Linear interpolation between samples of c one pixel apart, at offset f from the first, gives
+// (1-f) c(-f) + f c(1-f) = c + (1/2) f(1-f) c" + O(fourth derivative) (Taylor about the tap
+// point). c" is this eye's central second difference per axis (Params::stereoTapCurvature).
+vec3 bilinearTapExcess(const HostImage& self, uint32_t x, uint32_t y, vec2 q) {
+  const vec2 f = (q - 0.5f) - glm::floor(q - 0.5f);
+  const vec3 c = vec3(self.at(x, y));
+  const vec3 secondDiffX =
+      fetchClamped(self, int(x) - 1, int(y)) + fetchClamped(self, int(x) + 1, int(y)) - 2.0f * c;
+  const vec3 secondDiffY =
+      fetchClamped(self, int(x), int(y) - 1) + fetchClamped(self, int(x), int(y) + 1) - 2.0f * c;
+  return 0.5f * f.x * (1.0f - f.x) * secondDiffX + 0.5f * f.y * (1.0f - f.y) * secondDiffY;
+}
+
 HostImage alphaAsColour(const HostImage& img) {
   HostImage a = img;
   for (auto& px : a.px) px = vec4(vec3(px.a), 1.0f);
@@ -346,7 +359,10 @@ HostImage stereoBlendRef(const core::Params& p, const HostImage& self, const Hos
         }
       }
       if (ok) {
-        vec3 xo = space(bilinear(other, q));
+        vec3 tap = bilinear(other, q);
+        if (inverseVariance && p.stereoTapCurvature)
+          tap = glm::max(tap - bilinearTapExcess(self, x, y, q), vec3(0.0f));
+        vec3 xo = space(tap);
         // Clip to this eye's box mean +- gamma*sigma (gamma = taaClipGamma), widened to hold this
         // eye's pixel c, towards the mean.
         vec3 s1(0), s2(0);
