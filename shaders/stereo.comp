@@ -3,9 +3,10 @@
 // Stereo blending (seed 002 §4.1/§5.2): the other eye reprojected into this one (depth or a far
 // plane), rejected by a depth check, clipped to this eye's 3x3 colour box mean +- gamma*sigma
 // widened to hold this eye's pixel (gamma = taaClipGamma: a moving object or a depth-check miss
-// cannot pull in a foreign colour), blended with beta from Eq. 4, beta >= stereoBetaMin; after
-// steady with beta from the eyes' error variances (stereoBeta), the other eye's tap freed of its
-// bilinear blur first (tapBlur). Display only.
+// cannot pull in a foreign colour), blended with beta from Eq. 4, beta >= stereoBetaMin. After
+// steady: the other eye's tap freed of its bilinear blur first (tapBlur), the box's gamma sqrt(8)
+// (Params::stereoClipGammaAfterSteady), beta from the eyes' error variances (stereoBeta). Display
+// only.
 #include "common.glsl"
 
 // The variance of a pixel's own one-pixel box footprint, 1/12 + 1/12 px^2: what a single sample

@@ -363,8 +363,9 @@ HostImage stereoBlendRef(const core::Params& p, const HostImage& self, const Hos
         if (inverseVariance && p.stereoTapCurvature)
           tap = glm::max(tap - bilinearTapExcess(self, x, y, q), vec3(0.0f));
         vec3 xo = space(tap);
-        // Clip to this eye's box mean +- gamma*sigma (gamma = taaClipGamma), widened to hold this
-        // eye's pixel c, towards the mean.
+        // Clip to this eye's box mean +- gamma*sigma (gamma = taaClipGamma; after steady
+        // stereoClipGammaAfterSteady), widened to hold this eye's pixel c, towards the mean.
+        const float gamma = inverseVariance ? p.stereoClipGammaAfterSteady : p.taaClipGamma;
         vec3 s1(0), s2(0);
         for (const vec3& v : nb) {
           s1 += v;
@@ -372,7 +373,7 @@ HostImage stereoBlendRef(const core::Params& p, const HostImage& self, const Hos
         }
         const vec3 mean = s1 / 9.0f;
         const vec3 sigma = glm::sqrt(glm::max(s2 / 9.0f - mean * mean, vec3(0)));
-        const vec3 t = glm::abs(xo - mean) / (glm::max(p.taaClipGamma * sigma, glm::abs(c - mean)) + 1e-6f);
+        const vec3 t = glm::abs(xo - mean) / (glm::max(gamma * sigma, glm::abs(c - mean)) + 1e-6f);
         const float mx = std::max({t.x, t.y, t.z});
         if (mx > 1.0f) xo = mean + (xo - mean) / mx;
         const float beta = inverseVariance

@@ -166,6 +166,12 @@ struct Params {
   // check). Without it the tap's blur made up about 70 % of the truth's own inter-eye difference
   // on the image viewer (README, the default: stereo).
   bool stereoTapCurvature = true;
+  // After steady, with the inverse-variance beta: the other eye is clipped to this eye's 3x3 box
+  // mean +- gamma sigma with this gamma, not taa's 1. Both eyes are of the same instant, so the box
+  // guards only against a surface the depth check missed; a tap of the same surface interpolates
+  // this eye's neighbours, which lie within sqrt(9 - 1) sigma of their mean (Samuelson's bound for
+  // nine values). Narrower boxes pull a correct sample towards the local mean, a blur (README).
+  float stereoClipGammaAfterSteady = 2.8284271f;  // sqrt(8)
 
   HistoryFilter historyFilter = HistoryFilter::Bilinear;
   HistoryFormat historyFormat = HistoryFormat::Rgba16f;
