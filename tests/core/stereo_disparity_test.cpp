@@ -105,6 +105,31 @@ TEST_P(StereoKnownDisparity, AWrongPartnerChangesTheEye) {
 
 INSTANTIATE_TEST_SUITE_P(Depth, StereoKnownDisparity, ::testing::Bool());
 
+// Without depth and with the far plane at 10 m the disparity is known only within focal * IPD *
+// (1/0.75 - 1/10) = 2.8 px: steady+stereo blends nowhere, so the stereo pass does not run and the
+// output is steady's to the bit (were it run, the frame would pass through the half-float history
+// before the 8-bit output and round differently).
+class StereoWithoutKnownDisparity : public CoreTest {};
+
+TEST_F(StereoWithoutKnownDisparity, IsSteadyToTheBit) {
+  core::Params base;
+  base.stereoFarDistanceM = 10.0f;
+  ASSERT_GT(focalPx() * kIpdM * (1.0f / base.steadyNearestDepthM - 1.0f / base.stereoFarDistanceM), 1.0f);
+  Frame fr = planeFrame(false);
+  for (auto& c : fr.color)
+    for (auto& px : c.px) px = glm::vec4(glm::vec3(px) * 0.7f + 0.013f, 1.0f);  // off the 8-bit grid
+  auto f = makeFilter("steady+stereo", base);
+  auto g = makeFilter("steady", base);
+  Rig rigF(kW, kH, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM);
+  Rig rigG(kW, kH, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM);
+  for (int frame = 0; frame < 3; ++frame) {
+    const auto out = rigF.run(*f, fr);
+    const auto want = rigG.run(*g, fr);
+    for (int e = 0; e < 2; ++e)
+      EXPECT_EQ(compare(out[e], want[e]).maxAbs, 0.0f) << "frame " << frame << " eye " << e;
+  }
+}
+
 // Half a pixel of disparity: the right eye's partner of a left pixel lies between two texels, and
 // a bilinear tap there returns c + (1/2) f(1-f) c" (f = 1/2), a blur. A smooth grating
 // c(x) = 0.5 + 0.25 sin(2 pi x / 8 px) along x, sampled at the pixel centres, right(x) = c(x + 2.5)
