@@ -23,9 +23,9 @@ enum class TemporalMethod : uint8_t {
 // The shipped default temporal method: decided by the evaluation (eval/), one line to change.
 inline constexpr TemporalMethod kDefaultTemporalMethod = TemporalMethod::Steady;
 // Whether the default adds the stereo pass. Off: on the corpus (README, the default; issue 14
-// round 4) steady+stereo with the inverse-variance beta lowers the per-pixel stereo error to
-// 72.6 % of none's against steady's 82.2 %, but raises RMSE (70.1 % of none's against 68.3 %,
-// higher in 83 of 120 cases), at about 1.4 times the cost.
+// round 5) steady+stereo lowers the per-pixel stereo error to 69.8 % of none's against steady's
+// 82.5 % and mean RMSE to 66.9 % against 67.6 %, but RMSE is higher in 11 of 120 cases (by at most
+// 0.8 %), and where it blends it costs 4.95x the copy pass against steady's 3.05x (budget 3.5x).
 inline constexpr bool kDefaultStereo = false;
 
 // How the temporal passes resample the reprojected history.
