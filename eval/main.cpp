@@ -43,7 +43,7 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        (static scenes: exact reprojection, 1/N over 16 frames, on the CPU;
                        the unjittered frames) and oracle+jitter (the jittered frames);
                        sweeps as <m>@key=value[@key=value] with keys
-                       hmax,wmin,wlb,amin,alpha,gamma,beta,ivbeta,d,catmull and steady's
+                       hmax,wmin,wlb,amin,alpha,gamma,beta,ivbeta,tapcurv,sclip,d,catmull and steady's
                        floor,conf,reject,boxcur,clip,blur,footprint,fpenc,bluraxis,near,interp,
                        jrecentre (jittered input), history=16|8
                        (the history's bits per channel) and dither=0|1 after history=8

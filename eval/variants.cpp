@@ -109,6 +109,10 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->stereoBetaMin = value;
     else if (key == "ivbeta")  // after steady: stereo beta from inverse error variances, 0 = Eq. 4
       params->stereoInverseVariance = value != 0.0f;
+    else if (key == "tapcurv")  // after steady: the other eye's tap corrected by this eye's curvature
+      params->stereoTapCurvature = value != 0.0f;
+    else if (key == "sclip")  // after steady: the stereo pass's clip box gamma
+      params->stereoClipGammaAfterSteady = value;
     else if (key == "d")
       params->sampleD[0] = value;
     else if (key == "catmull")
@@ -144,10 +148,11 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->historyFormat =
           value != 0.0f ? core::HistoryFormat::Rgba8Dithered : core::HistoryFormat::Rgba8Nearest;
     else {
-      *error = "unknown parameter '" + key +
-               "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, d, catmull, floor, conf, reject, clip, "
-               "blur, footprint, fpenc, bluraxis, jrecentre, near, "
-               "interp, history=16|8, dither after history=8)";
+      *error =
+          "unknown parameter '" + key +
+          "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, tapcurv, sclip, d, catmull, floor, conf, "
+          "reject, clip, blur, footprint, fpenc, bluraxis, jrecentre, near, "
+          "interp, history=16|8, dither after history=8)";
       return false;
     }
     v->sweep = true;

@@ -99,6 +99,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float steadyJitterRecentred;   // steady, jittered input: 1 = 3x3 weights follow the offset, 0 = raw sample
   float steadyHistoryBlurPerAxis;  // steady (history read): 1 = the blur guard per axis, 0 = summed
   float steadyClipHoldsCurrent;  // steady: 1 = the clip box reaches out to the current estimate fc
+  float stereoTapCurvature;      // stereo: 1 = the other eye's bilinear tap corrected by this eye's curvature
 } P;
 
 vec3 sanitize(vec3 c) {

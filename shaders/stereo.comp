@@ -3,8 +3,10 @@
 // Stereo blending (seed 002 §4.1/§5.2): the other eye reprojected into this one (depth or a far
 // plane), rejected by a depth check, clipped to this eye's 3x3 colour box mean +- gamma*sigma
 // widened to hold this eye's pixel (gamma = taaClipGamma: a moving object or a depth-check miss
-// cannot pull in a foreign colour), blended with beta from Eq. 4, beta >= stereoBetaMin; after
-// steady with beta from the eyes' error variances (stereoBeta). Display only.
+// cannot pull in a foreign colour), blended with beta from Eq. 4, beta >= stereoBetaMin. After
+// steady: the other eye's tap freed of its bilinear blur first (tapBlur), the box's gamma sqrt(8)
+// (Params::stereoClipGammaAfterSteady), beta from the eyes' error variances (stereoBeta). Display
+// only.
 #include "common.glsl"
 
 // The variance of a pixel's own one-pixel box footprint, 1/12 + 1/12 px^2: what a single sample
@@ -17,7 +19,9 @@ const float kFootprintVarPx2 = 1.0 / 6.0;
 // over the pixel's box divided by its sample count n; the other eye's estimate also went through
 // a bilinear tap (f(1-f) px^2 per axis) and, without depth, a disparity known only within its
 // spread. A displacement of variance v errs by about |grad|^2 v on a locally linear signal, so
-// |grad|^2 cancels: equal counts and an exact tap give 1/2.
+// |grad|^2 cancels: equal counts and an exact tap give 1/2. With the tap's curvature term taken
+// off (stereoTapCurvature), f(1-f) stays as the bound of what that second-order correction misses
+// (texture near the sampling limit).
 float stereoBeta(vec3 x, vec3 mn, float sigma2, ivec2 o, float otherAlpha, vec2 q) {
   vec3 d = x - mn;
   float e = dot(d, d) * (1.0 / 3.0) + sigma2;
@@ -31,6 +35,17 @@ float stereoBeta(vec3 x, vec3 mn, float sigma2, ivec2 o, float otherAlpha, vec2 
   // pixel (no depth, a near surface possible) points at another surface point: no blend.
   float betaInverseVariance = P.stereoDisparitySpreadPx2 > 1.0 ? 1.0 : varOther / (varThis + varOther);
   return P.stereoInverseVariance > 0.5 ? betaInverseVariance : betaEq4;
+}
+
+// What a bilinear tap at q adds to the signal's value there: interpolating linearly between texels
+// at offset f gives c(q) + (1/2) f(1-f) c'' per axis (Taylor to second order), a blur. The other
+// eye sees the same surface (depth check), so this eye's second differences stand for its c''.
+vec3 tapBlur(ivec2 o, vec2 q) {
+  vec2 f = fract(q - 0.5);
+  vec3 centre2 = 2.0 * blockAt(o, 0, 0);
+  vec3 curvatureX = blockAt(o, -1, 0) + blockAt(o, 1, 0) - centre2;
+  vec3 curvatureY = blockAt(o, 0, -1) + blockAt(o, 0, 1) - centre2;
+  return 0.5 * (f.x * (1.0 - f.x) * curvatureX + f.y * (1.0 - f.y) * curvatureY);
 }
 
 // Branch-free around texture reads, the store skipped past the edge (see PROCESS_BLOCK).
@@ -61,6 +76,7 @@ void processPixel(ivec2 p, ivec2 o) {
   // The box always holds this eye's own pixel: identical eyes stay unchanged.
   vec3 dy = y - mn;
   vec4 other = sampleSrc1Rgba(q);
+  if (P.stereoTapCurvature > 0.5) other.rgb = max(other.rgb - tapBlur(o, q), vec3(0.0));
   vec3 x = clipToBox(other.rgb, mn, max(P.clipGamma * P.clipGamma * var, dy * dy) + 1e-12);
   float sigma2 = (var.r + var.g + var.b) * (1.0 / 3.0);
   float beta = stereoBeta(x, mn, sigma2, o, other.a, q);

@@ -301,7 +301,9 @@ TEST_F(Cli, EverythingItWritesTheLayerAccepts) {
                                                    {"steady_footprint_encoded", "off"},
                                                    {"steady_history_blur_per_axis", "off"},
                                                    {"steady_clip_holds_current", "on"},
-                                                   {"stereo_inverse_variance", "off"}};
+                                                   {"stereo_inverse_variance", "off"},
+                                                   {"stereo_tap_curvature", "off"},
+                                                   {"stereo_clip_gamma_after_steady", "2"}};
   for (const std::string& key : layer::knownConfigKeys()) {
     ASSERT_TRUE(good.count(key)) << "no good value for " << key << " in this test";
     ASSERT_EQ(cli({"set", "--app", "a", key + "=" + good.at(key)}), 0) << key << ": " << err_.str();

@@ -356,7 +356,8 @@ TEST_F(CoreTest, SeparateStereoPassAfterTemporalMatchesReference) {
 }
 
 // Stereo after steady: beta from the eyes' error variances (each history's sample count, the
-// bilinear tap, the disparity's spread without depth) agrees with the reference written from
+// bilinear tap, the disparity's spread without depth) and the other eye's tap corrected by this
+// eye's curvature agree with the reference written from
 // that equation, applied to steady's reference result of this frame. Two frames, so the counts
 // and tap offsets differ across the image; a box before a wall with depth, a plane without.
 class SteadyStereoReference : public CoreTest, public ::testing::WithParamInterface<bool> {};
@@ -394,8 +395,10 @@ TEST_P(SteadyStereoReference, MatchesCpuReference) {
                                            withDepth ? &f2.depth[e] : nullptr,
                                            withDepth ? &f2.depth[o] : nullptr, 0.1f, 100.0f, true);
     const Diff d = compare(out2[e], want);
-    EXPECT_LE(d.meanAbs, 3e-3f) << "eye " << e;
-    EXPECT_LE(d.maxAbs, 0.08f) << "eye " << e;
+    // Measured 3.5e-4 mean and 2e-3 at most (half-float histories); the tap's curvature term with
+    // the wrong sign gives 1.7e-3 and 0.03.
+    EXPECT_LE(d.meanAbs, 1e-3f) << "eye " << e;
+    EXPECT_LE(d.maxAbs, 0.01f) << "eye " << e;
     EXPECT_GT(compare(out2[e], steadyOnly[e]).meanAbs, 2e-3f) << "eye " << e << ": the other eye blends in";
   }
 }

@@ -303,6 +303,19 @@ float disparitySpreadPx2(const core::Params& p, const RefView& selfView, const R
   return px * px;
 }
 
+// Linear interpolation between samples of c one pixel apart, at offset f from the first, gives
+// (1-f) c(-f) + f c(1-f) = c + (1/2) f(1-f) c" + O(fourth derivative) (Taylor about the tap
+// point). c" is this eye's central second difference per axis (Params::stereoTapCurvature).
+vec3 bilinearTapExcess(const HostImage& self, uint32_t x, uint32_t y, vec2 q) {
+  const vec2 f = (q - 0.5f) - glm::floor(q - 0.5f);
+  const vec3 c = vec3(self.at(x, y));
+  const vec3 secondDiffX =
+      fetchClamped(self, int(x) - 1, int(y)) + fetchClamped(self, int(x) + 1, int(y)) - 2.0f * c;
+  const vec3 secondDiffY =
+      fetchClamped(self, int(x), int(y) - 1) + fetchClamped(self, int(x), int(y) + 1) - 2.0f * c;
+  return 0.5f * f.x * (1.0f - f.x) * secondDiffX + 0.5f * f.y * (1.0f - f.y) * secondDiffY;
+}
+
 HostImage alphaAsColour(const HostImage& img) {
   HostImage a = img;
   for (auto& px : a.px) px = vec4(vec3(px.a), 1.0f);
@@ -346,9 +359,13 @@ HostImage stereoBlendRef(const core::Params& p, const HostImage& self, const Hos
         }
       }
       if (ok) {
-        vec3 xo = space(bilinear(other, q));
-        // Clip to this eye's box mean +- gamma*sigma (gamma = taaClipGamma), widened to hold this
-        // eye's pixel c, towards the mean.
+        vec3 tap = bilinear(other, q);
+        if (inverseVariance && p.stereoTapCurvature)
+          tap = glm::max(tap - bilinearTapExcess(self, x, y, q), vec3(0.0f));
+        vec3 xo = space(tap);
+        // Clip to this eye's box mean +- gamma*sigma (gamma = taaClipGamma; after steady
+        // stereoClipGammaAfterSteady), widened to hold this eye's pixel c, towards the mean.
+        const float gamma = inverseVariance ? p.stereoClipGammaAfterSteady : p.taaClipGamma;
         vec3 s1(0), s2(0);
         for (const vec3& v : nb) {
           s1 += v;
@@ -356,7 +373,7 @@ HostImage stereoBlendRef(const core::Params& p, const HostImage& self, const Hos
         }
         const vec3 mean = s1 / 9.0f;
         const vec3 sigma = glm::sqrt(glm::max(s2 / 9.0f - mean * mean, vec3(0)));
-        const vec3 t = glm::abs(xo - mean) / (glm::max(p.taaClipGamma * sigma, glm::abs(c - mean)) + 1e-6f);
+        const vec3 t = glm::abs(xo - mean) / (glm::max(gamma * sigma, glm::abs(c - mean)) + 1e-6f);
         const float mx = std::max({t.x, t.y, t.z});
         if (mx > 1.0f) xo = mean + (xo - mean) / mx;
         const float beta = inverseVariance

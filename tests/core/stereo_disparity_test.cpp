@@ -105,5 +105,82 @@ TEST_P(StereoKnownDisparity, AWrongPartnerChangesTheEye) {
 
 INSTANTIATE_TEST_SUITE_P(Depth, StereoKnownDisparity, ::testing::Bool());
 
+// Without depth and with the far plane at 10 m the disparity is known only within focal * IPD *
+// (1/0.75 - 1/10) = 2.8 px: steady+stereo blends nowhere, so the stereo pass does not run and the
+// output is steady's to the bit (were it run, the frame would pass through the half-float history
+// before the 8-bit output and round differently).
+class StereoWithoutKnownDisparity : public CoreTest {};
+
+TEST_F(StereoWithoutKnownDisparity, IsSteadyToTheBit) {
+  core::Params base;
+  base.stereoFarDistanceM = 10.0f;
+  ASSERT_GT(focalPx() * kIpdM * (1.0f / base.steadyNearestDepthM - 1.0f / base.stereoFarDistanceM), 1.0f);
+  Frame fr = planeFrame(false);
+  for (auto& c : fr.color)
+    for (auto& px : c.px) px = glm::vec4(glm::vec3(px) * 0.7f + 0.013f, 1.0f);  // off the 8-bit grid
+  auto f = makeFilter("steady+stereo", base);
+  auto g = makeFilter("steady", base);
+  Rig rigF(kW, kH, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM);
+  Rig rigG(kW, kH, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM);
+  for (int frame = 0; frame < 3; ++frame) {
+    const auto out = rigF.run(*f, fr);
+    const auto want = rigG.run(*g, fr);
+    for (int e = 0; e < 2; ++e)
+      EXPECT_EQ(compare(out[e], want[e]).maxAbs, 0.0f) << "frame " << frame << " eye " << e;
+  }
+}
+
+// Half a pixel of disparity: the right eye's partner of a left pixel lies between two texels, and
+// a bilinear tap there returns c + (1/2) f(1-f) c" (f = 1/2), a blur. A smooth grating
+// c(x) = 0.5 + 0.25 sin(2 pi x / 8 px) along x, sampled at the pixel centres, right(x) = c(x + 2.5)
+// where left(x) = c(x). steady+stereo with the curvature correction finds each eye's own value to
+// fourth order (relative error 1 - cos(pi/8) - (1 - cos(pi/4))/4 = 0.3 %); without it the tap's
+// blur (1 - cos(pi/8) = 7.6 % of the amplitude) goes into both eyes with weight 1 - beta.
+constexpr float kHalfPixelDisparity = 2.5f;
+constexpr float kGratingPeriodPx = 8.0f;
+
+Frame gratingFrame() {
+  Frame fr{{HostImage(kW, kH), HostImage(kW, kH)}, {parallelEye(0), parallelEye(1)}};
+  const float omega = 2.0f * 3.14159265f / kGratingPeriodPx;
+  for (uint32_t y = 0; y < kH; ++y)
+    for (uint32_t x = 0; x < kW; ++x)
+      for (int e = 0; e < 2; ++e) {
+        const float u = float(x) + (e == 0 ? 0.0f : kHalfPixelDisparity);
+        fr.color[e].at(x, y) = glm::vec4(glm::vec3(0.5f + 0.25f * std::sin(omega * u)), 1.0f);
+      }
+  const float z = focalPx() * kIpdM / kHalfPixelDisparity;
+  fr.depth = {planeDepth(z), planeDepth(z)};
+  return fr;
+}
+
+float interiorMaxDiffMargin(const HostImage& a, const HostImage& b, int margin) {
+  float worst = 0.0f;
+  for (uint32_t y = 2; y + 2 < kH; ++y)
+    for (int x = margin; x < int(kW) - margin; ++x)
+      for (int k = 0; k < 3; ++k)
+        worst = std::max(worst, std::abs(a.at(uint32_t(x), y)[k] - b.at(uint32_t(x), y)[k]));
+  return worst;
+}
+
+class StereoHalfPixelDisparity : public CoreTest {};
+
+TEST_F(StereoHalfPixelDisparity, TheTapsBlurIsTakenOff) {
+  const Frame fr = gratingFrame();
+  float worst[2] = {};  // with, without the correction
+  for (int corrected = 1; corrected >= 0; --corrected) {
+    core::Params base;
+    base.stereoTapCurvature = corrected != 0;
+    auto f = makeFilter("steady+stereo", base);
+    auto g = makeFilter("steady", base);
+    Rig rig(kW, kH);
+    const auto out = rig.run(*f, fr);
+    const auto want = rig.run(*g, fr);
+    for (int e = 0; e < 2; ++e)
+      worst[corrected] = std::max(worst[corrected], interiorMaxDiffMargin(out[e], want[e], 5));
+  }
+  EXPECT_LE(worst[1], 1.5e-3f) << "corrected tap";
+  EXPECT_GT(worst[0], 4e-3f) << "the raw tap's blur shows (the check can fail)";
+}
+
 }  // namespace
 }  // namespace steadyxr::test

@@ -49,7 +49,9 @@ void usage() {
                "@history=16 or @history=8 (the history's bits per channel, Params::historyFormat).\n"
                "'model' is the traffic model's bytes per pixel of one eye (traffic_model.h) and its\n"
                "ratio to the copy's; 'ops' its fetches+samples+stores per pixel. <method>@catmull: the\n"
-               "method with the Catmull-Rom history.\n";
+               "method with the Catmull-Rom history. @blend: the far plane at the nearest depth, so\n"
+               "that steady+stereo blends without depth (else it skips the pass: the disparity's\n"
+               "spread exceeds a pixel); @tapcurv=0: stereo without the tap's curvature correction.\n";
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -242,18 +244,27 @@ struct Row {
 
 // "name" or "name@history=16|8": the method's parameters.
 std::optional<Params> methodParams(const std::string& spec) {
-  const size_t at = spec.find('@');
+  size_t at = spec.find('@');
   auto params = applyMethodName(spec.substr(0, at));
-  if (!params || at == std::string::npos) return params;
-  const std::string suffix = spec.substr(at + 1);
-  if (suffix == "history=16")
-    params->historyFormat = HistoryFormat::Rgba16f;
-  else if (suffix == "history=8")
-    params->historyFormat = HistoryFormat::Rgba8Dithered;
-  else if (suffix == "catmull")  // the steady candidate's cost (README, "The worst frames")
-    params->historyFilter = HistoryFilter::CatmullRom;
-  else
-    return std::nullopt;
+  while (params && at != std::string::npos) {
+    const size_t next = spec.find('@', at + 1);
+    const std::string suffix =
+        spec.substr(at + 1, next == std::string::npos ? std::string::npos : next - at - 1);
+    at = next;
+    if (suffix == "history=16")
+      params->historyFormat = HistoryFormat::Rgba16f;
+    else if (suffix == "history=8")
+      params->historyFormat = HistoryFormat::Rgba8Dithered;
+    else if (suffix == "catmull")  // the steady candidate's cost (README, "The worst frames")
+      params->historyFilter = HistoryFilter::CatmullRom;
+    else if (suffix == "blend")  // the bench has no depth: a scene assumed at the nearest distance
+      params->stereoFarDistanceM =
+          params->steadyNearestDepthM;  // has no disparity spread, so steady+stereo blends
+    else if (suffix == "tapcurv=0")
+      params->stereoTapCurvature = false;
+    else
+      return std::nullopt;
+  }
   return params;
 }
 

@@ -190,6 +190,8 @@ PassDispatch stereoPass(const PassContext& c, uint32_t e) {
   const bool afterSteady = c.plan.temporal && c.params.temporal == TemporalMethod::Steady;
   u.stereoInverseVariance = afterSteady && c.params.stereoInverseVariance ? 1.0f : 0.0f;
   u.stereoSampleCountScale = afterSteady ? 1.0f : 0.0f;
+  u.stereoTapCurvature = u.stereoInverseVariance > 0.5f && c.params.stereoTapCurvature ? 1.0f : 0.0f;
+  if (u.stereoInverseVariance > 0.5f) u.clipGamma = c.params.stereoClipGammaAfterSteady;
   // Without this eye's depth the disparity is the far plane's; the true one lies anywhere up to
   // the nearest comfortable distance: steady's parallax spread with the other eye's offset.
   if (!c.plan.hasDepth[e] && c.plan.poseOk[e] && c.plan.poseOk[o])

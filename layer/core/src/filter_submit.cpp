@@ -39,6 +39,26 @@ using detail::Target;
 using detail::temporalPass;
 using detail::validDepth;
 
+namespace {
+
+// After steady (inverse-variance beta) an eye blends the other only with a known disparity: its own
+// depth, or a disparity spread without depth of at most a pixel (stereo.comp), and finite poses.
+// When neither eye can, the stereo pass would copy this frame through the half-float history alone.
+bool stereoBlendsNowhere(const Params& params, const StereoFrame& frame, const FramePlan& plan) {
+  if (!plan.temporal || params.temporal != TemporalMethod::Steady || !params.stereoInverseVariance)
+    return false;
+  for (uint32_t e = 0; e < 2; ++e) {
+    const uint32_t o = 1 - e;
+    if (!plan.poseOk[e] || !plan.poseOk[o]) continue;
+    if (plan.hasDepth[e]) return false;
+    const ViewFrame& v = frame.views[e];
+    if (detail::parallaxSpreadPx2(params, v, frame.views[o].pose, v.color.rect.extent) <= 1.0f) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, std::string* error,
                           VkSemaphore signal) {
   pipelines.compiling = false;
@@ -142,6 +162,7 @@ bool Filter::Impl::prepareEyes(const StereoFrame& frame, FramePlan& plan, std::s
       if (!(angle <= params.resetAngleDeg) || !(dist <= params.resetTranslationM)) eye.valid = false;
     }
   }
+  if (plan.stereo && stereoBlendsNowhere(params, frame, plan)) plan.stereo = false;
   return true;
 }
 

@@ -107,6 +107,8 @@ std::string validate(const Params& p, Params* sanitized) {
   check(finite(p.stereoDepthTolerance) && p.stereoDepthTolerance >= 0.0f, "stereoDepthTolerance",
         &Params::stereoDepthTolerance);
   check(inUnit(p.stereoBetaMin), "stereoBetaMin", &Params::stereoBetaMin);
+  check(positive(p.stereoClipGammaAfterSteady), "stereoClipGammaAfterSteady",
+        &Params::stereoClipGammaAfterSteady);
   check(positive(p.resetAngleDeg), "resetAngleDeg", &Params::resetAngleDeg);
   check(positive(p.resetTranslationM), "resetTranslationM", &Params::resetTranslationM);
   if (sanitized) *sanitized = out;

@@ -67,6 +67,7 @@ struct PassUniforms {
   float steadyJitterRecentred;  // steady, jittered input: 1 = 3x3 weights follow the offset, 0 = raw sample
   float steadyHistoryBlurPerAxis;  // steady (history read): 1 = the blur guard per axis, 0 = summed
   float steadyClipHoldsCurrent;    // steady: 1 = the clip box reaches out to the current estimate fc
+  float stereoTapCurvature;  // stereo: 1 = the other eye's bilinear tap corrected by this eye's curvature
 };
 
 // std140 offsets of PassParams in common.glsl: a host member moved fails here, a shader member
@@ -110,6 +111,7 @@ static_assert(offsetof(PassUniforms, stereoDisparitySpreadPx2) == 472);
 static_assert(offsetof(PassUniforms, steadyJitterRecentred) == 476);
 static_assert(offsetof(PassUniforms, steadyHistoryBlurPerAxis) == 480);
 static_assert(offsetof(PassUniforms, steadyClipHoldsCurrent) == 484);
-static_assert(sizeof(PassUniforms) == 496);  // the block's 488 bytes, rounded up to 16 by DepthToInvZ
+static_assert(offsetof(PassUniforms, stereoTapCurvature) == 488);
+static_assert(sizeof(PassUniforms) == 496);  // the block's 492 bytes, rounded up to 16 by DepthToInvZ
 
 }  // namespace steadyxr::core

@@ -99,6 +99,7 @@ constexpr FloatKey kFloatKeys[] = {
     {"steady_footprint", &core::Params::steadyFootprint, 0.0f, 0.25f, false},
     {"steady_clip_gamma", &core::Params::steadyClipGamma, 0.0f, 1000.0f, true},
     {"steady_nearest_depth_m", &core::Params::steadyNearestDepthM, 0.01f, 1.0e6f, false},
+    {"stereo_clip_gamma_after_steady", &core::Params::stereoClipGammaAfterSteady, 0.0f, 1000.0f, true},
 };
 
 // Boolean switches of core::Params (steady's ablation switches).
@@ -114,6 +115,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_history_blur_per_axis", &core::Params::steadyHistoryBlurPerAxis},
     {"steady_clip_holds_current", &core::Params::steadyClipHoldsCurrent},
     {"stereo_inverse_variance", &core::Params::stereoInverseVariance},
+    {"stereo_tap_curvature", &core::Params::stereoTapCurvature},
 };
 
 constexpr const char* kOtherKeys[] = {"enabled",   "method",       "pose_source",    "imu_device",

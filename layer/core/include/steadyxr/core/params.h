@@ -23,9 +23,9 @@ enum class TemporalMethod : uint8_t {
 // The shipped default temporal method: decided by the evaluation (eval/), one line to change.
 inline constexpr TemporalMethod kDefaultTemporalMethod = TemporalMethod::Steady;
 // Whether the default adds the stereo pass. Off: on the corpus (README, the default; issue 14
-// round 4) steady+stereo with the inverse-variance beta lowers the per-pixel stereo error to
-// 72.6 % of none's against steady's 82.2 %, but raises RMSE (70.1 % of none's against 68.3 %,
-// higher in 83 of 120 cases), at about 1.4 times the cost.
+// round 5) steady+stereo lowers the per-pixel stereo error to 69.8 % of none's against steady's
+// 82.5 % and mean RMSE to 66.9 % against 67.6 %, but RMSE is higher in 11 of 120 cases (by at most
+// 0.8 %), and where it blends it costs 4.95x the copy pass against steady's 3.05x (budget 3.5x).
 inline constexpr bool kDefaultStereo = false;
 
 // How the temporal passes resample the reprojected history.
@@ -160,6 +160,18 @@ struct Params {
   // bilinear tap's f(1-f) px^2 per axis and, without depth, the disparity's spread. Inverse-variance
   // weights: beta = var_other / (var_this + var_other). The seed methods keep Eq. 4.
   bool stereoInverseVariance = true;
+  // After steady, with the inverse-variance beta: the other eye's bilinear tap at offset f is
+  // c(q) + (1/2) f(1-f) c'' per axis (Taylor), a blur of the very kind steady's own error has; the
+  // curvature term is taken off with this eye's second differences (the same surface, by the depth
+  // check). Without it the tap's blur made up about 70 % of the truth's own inter-eye difference
+  // on the image viewer (README, the default: stereo).
+  bool stereoTapCurvature = true;
+  // After steady, with the inverse-variance beta: the other eye is clipped to this eye's 3x3 box
+  // mean +- gamma sigma with this gamma, not taa's 1. Both eyes are of the same instant, so the box
+  // guards only against a surface the depth check missed; a tap of the same surface interpolates
+  // this eye's neighbours, which lie within sqrt(9 - 1) sigma of their mean (Samuelson's bound for
+  // nine values). Narrower boxes pull a correct sample towards the local mean, a blur (README).
+  float stereoClipGammaAfterSteady = 2.8284271f;  // sqrt(8)
 
   HistoryFilter historyFilter = HistoryFilter::Bilinear;
   HistoryFormat historyFormat = HistoryFormat::Rgba16f;
