@@ -143,6 +143,9 @@ std::vector<Scenario> corpusScenarios(const Options& o) {
   const bool fromCommandLine = !o.motions.empty();
   const std::vector<std::string> pictures = o.images.empty() ? corpusPictures() : o.images;
   const std::vector<std::string> motions = o.motions.empty() ? corpusMotions() : o.motions;
+  auto sceneWanted = [&](const std::string& scene) {  // --scenes narrows the corpus too
+    return o.scenes.empty() || std::find(o.scenes.begin(), o.scenes.end(), scene) != o.scenes.end();
+  };
   for (const std::string& motion : motions) {
     const bool translates = presetTranslates(motion, o.seed);
     const double start =
@@ -171,8 +174,10 @@ std::vector<Scenario> corpusScenarios(const Options& o) {
         out.push_back(s);
       }
     };
-    for (const std::string& p : pictures) add("imageviewer", p, pictureClass(p));
+    if (sceneWanted("imageviewer"))
+      for (const std::string& p : pictures) add("imageviewer", p, pictureClass(p));
     for (const char* scene : {"thin", "moving", "disocclusion"}) {
+      if (!sceneWanted(scene)) continue;
       // --ppd: a scene its depth stretch would put beyond the far plane is left out (scene.h,
       // makeScene; a head at the origin stands for the motions' first poses, which are near it).
       Scene probe;

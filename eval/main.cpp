@@ -52,8 +52,8 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        motions with and without depth; one table per motion and picture
                        class (defaults: 96x96, 48 frames placed over the preset's motion
                        changes, display = app rate, no seed 004
-                       study, fewer methods; ~5 min on 2 cores); --motions and --images
-                       narrow it
+                       study, fewer methods; ~5 min on 2 cores); --motions, --images and
+                       --scenes (imageviewer, thin, moving, disocclusion) narrow it
   --unorm              UNORM eye images and textures (filtering in encoded values) instead
                        of sRGB (linear light, the default)
   --no-mipmaps         sample textures without mipmaps (the worst case; default trilinear)
