@@ -32,7 +32,9 @@ import stress_motion  # noqa: E402
 import stress_pictures  # noqa: E402
 
 BASE_METHODS = ["none", "taa", "taa+jitter", "default"]
-APP_HZ = 30.0  # the eval's default app rate (eval/main.cpp)
+# App frame rates: the eval's default 30 Hz (eval/main.cpp), a 90 Hz headset at half rate (45,
+# reprojection), Quest's 72 Hz and full 90 Hz: the head moves 3x less per frame at 90 than at 30.
+APP_HZ_CHOICES = [30.0, 45.0, 72.0, 90.0]
 # issue 14 (eval/targets.cpp): worst frame <= 1.10x none's, back below none within 3 frames.
 WORST_FRAME_LIMIT = 1.10
 RECOVERY_LIMIT = 3
@@ -58,6 +60,10 @@ def parse_args(argv):
     p.add_argument("--ppd", default="0,14,20", help="pixel densities to draw from (0: the eval's default fov)")
     p.add_argument("--no-mipmaps-fraction", type=float, default=0.3, help="share of cases with --no-mipmaps")
     p.add_argument("--scenes", default=",".join(SCENE_WEIGHTS), help="scenes to draw from")
+    p.add_argument("--app-hz", default=",".join(f"{x:g}" for x in APP_HZ_CHOICES), help="app rates to draw from")
+    p.add_argument("--unorm-fraction", type=float, default=0.1, help="share of cases with --unorm")
+    p.add_argument("--noise-fraction", type=float, default=0.1,
+                   help="share of cases with per-frame noise (--noise 0.01-0.08; 0.08 is the noisy scene's)")
     p.add_argument("--generate-only", action="store_true", help="write pictures and traces, run nothing")
     return p.parse_args(argv)
 
@@ -79,6 +85,9 @@ def draw_case(seed, index, args):
     if scene in ("thin", "disocclusion") and ppd > DEPTH_SCENES_PPD_PER_96PX * resolution / 96.0:
         ppd = 0.0
     mipmaps = bool(rng.uniform() >= args.no_mipmaps_fraction)
+    app_hz = float(rng.choice([float(x) for x in args.app_hz.split(",")]))
+    unorm = bool(rng.uniform() < args.unorm_fraction)
+    noise = float(np.exp(rng.uniform(np.log(0.01), np.log(0.08)))) if rng.uniform() < args.noise_fraction else 0.0
     return {
         "index": index,
         "name": f"s{seed}c{index:03d}",
@@ -89,6 +98,9 @@ def draw_case(seed, index, args):
         "frames": frames,
         "ppd": ppd,
         "mipmaps": mipmaps,
+        "app_hz": app_hz,
+        "unorm": unorm,
+        "noise": round(noise, 4),
         "rng": rng,
     }
 
@@ -97,7 +109,7 @@ def write_case_inputs(case, out):
     """Writes the case's picture and trace; returns their paths and drawn parameters."""
     rng = case.pop("rng")
     pixels, picture_params = stress_pictures.make_picture(case["picture_kind"], rng, case["resolution"])
-    run_s = case["frames"] / APP_HZ
+    run_s = case["frames"] / case["app_hz"]
     rows, motion_params = stress_motion.make_trace(case["motion_kind"], rng, run_s)
     picture_path = out / "pictures" / f"{case['name']}-{case['picture_kind']}.png"
     trace_path = out / "traces" / f"{case['name']}-{case['motion_kind']}.csv"
@@ -116,12 +128,17 @@ def eval_command(case, args, out_dir):
            "--methods", ",".join(methods), "--resolution", f"{case['resolution']}x{case['resolution']}",
            "--frames", str(case["frames"]), "--seed", str(case["index"]),
            # As --corpus: display at the app rate, no seed 004 study (its extra truths cost 3x).
-           "--display-hz", str(APP_HZ), "--warp-steps", "0", "--no-sweeps", "--no-progress",
+           "--app-hz", f"{case['app_hz']:g}", "--display-hz", f"{case['app_hz']:g}", "--warp-steps", "0",
+           "--no-sweeps", "--no-progress",
            "--out", str(out_dir)]
     if case["ppd"] > 0:
         cmd += ["--ppd", f"{case['ppd']:g}"]
     if not case["mipmaps"]:
         cmd.append("--no-mipmaps")
+    if case["unorm"]:
+        cmd.append("--unorm")
+    if case["noise"] > 0:
+        cmd += ["--noise", f"{case['noise']:g}"]
     return cmd
 
 
@@ -161,6 +178,10 @@ def judge(case, out_dir):
     v["worst_ok"] = v["worst_ratio"] <= WORST_FRAME_LIMIT
     v["recovery_ok"] = v["recovered"] and v["recovery"] <= RECOVERY_LIMIT
     v["ok"] = v["mean_ok"] and v["worst_ok"] and v["recovery_ok"]
+    # A frame miss where the default is no worse than its own median is none's luck, not a ghost
+    # (README "--ppd": the grid falls on the picture's phase and none is nearly exact). Reported
+    # apart, still a miss by the target's letter.
+    v["lucky_none"] = not v["worst_ok"] and v.get("default_vs_median", 2.0) <= 1.0
     return v
 
 
@@ -179,7 +200,8 @@ def describe_motion(case):
 
 
 def print_table(cases):
-    head = (f"{'case':9} {'scene':12} {'res':>3} {'ppd':>3} {'mip':>3} {'fr':>2}  {'picture':34} {'motion':34}"
+    head = (f"{'case':9} {'scene':12} {'res':>3} {'ppd':>3} {'hz':>2} {'mip':>3} {'fr':>2} {'un/nz':>6}  {'picture':34}"
+            f" {'motion':34}"
             f" {'p95':>6} {'def/none':>8} {'worst':>11} {'rec':>4} {'def/taa':>7}  verdict")
     print(head)
     print("-" * len(head))
@@ -194,9 +216,11 @@ def print_table(cases):
                                        ("RECOVERY", v["recovery_ok"])) if not ok]
         why = ""
         if not v["worst_ok"] and "none_vs_median" in v:
-            why = f" (frame: default {v['default_vs_median']:.2f}x its median, none {v['none_vs_median']:.2f}x)"
-        print(f"{c['name']:9} {c['scene']:12} {c['resolution']:>3} {c['ppd']:>3g} {'y' if c['mipmaps'] else 'n':>3}"
-              f" {c['frames']:>2}  {describe_picture(c)[:34]:34} {describe_motion(c)[:34]:34} {v['head_p95']:6.2f}"
+            why = (f" ({'none lucky' if v['lucky_none'] else 'default rose'}: default {v['default_vs_median']:.2f}x"
+                   f" its median, none {v['none_vs_median']:.2f}x)")
+        extra = ("u" if c["unorm"] else "-") + "/" + (f"{c['noise']:.2f}" if c["noise"] > 0 else "-")
+        print(f"{c['name']:9} {c['scene']:12} {c['resolution']:>3} {c['ppd']:>3g} {c['app_hz']:>2g}"
+              f" {'y' if c['mipmaps'] else 'n':>3} {c['frames']:>2} {extra:>6}  {describe_picture(c)[:34]:34} {describe_motion(c)[:34]:34} {v['head_p95']:6.2f}"
               f" {v['mean_ratio']:8.3f} {worst:>11} {rec:>4} {v['taa_ratio']:7.3f}  "
               f"{'ok' if not flags else 'BROKEN ' + '+'.join(flags)}{why}")
 
@@ -208,7 +232,8 @@ def summary(cases):
     ratios = np.array([v["mean_ratio"] for v in judged])
     return (f"{len(judged)} cases: default/none mean {ratios.mean():.3f} (worst {ratios.max():.3f}); "
             f"mean above none in {sum(not v['mean_ok'] for v in judged)}, a frame above {WORST_FRAME_LIMIT:.2f}x in "
-            f"{sum(not v['worst_ok'] for v in judged)} (worst {max(v['worst_ratio'] for v in judged):.3f}x), "
+            f"{sum(not v['worst_ok'] for v in judged)} (worst {max(v['worst_ratio'] for v in judged):.3f}x; "
+            f"{sum(v['lucky_none'] for v in judged)} of them none's lucky frame), "
             f"recovery over {RECOVERY_LIMIT} frames in {sum(not v['recovery_ok'] for v in judged)}; "
             f"default <= the better taa in {sum(v['taa_ratio'] <= 1.0 for v in judged)}/{len(judged)}; "
             f"eval failures {sum('verdict' not in c for c in cases)}")
@@ -228,9 +253,14 @@ def main(argv):
         run_dir = out / "runs" / c["name"]
         cmd = eval_command(c, args, run_dir)
         c["command"] = " ".join(cmd)
+        (run_dir / "results.csv").unlink(missing_ok=True)  # never judge a previous run's results
+        # Under the sanitizer build, leak reports would come from the Vulkan driver's (Mesa/LLVM)
+        # process-lifetime allocations (as tests/eval/run_small_suite.py): keep ASan's other checks.
+        env = dict(os.environ)
+        env["ASAN_OPTIONS"] = (env.get("ASAN_OPTIONS", "") + ":detect_leaks=0").lstrip(":")
         # Shared 2-core machines: below the interactive work (common practice here: nice -n 5).
-        proc = subprocess.run(["nice", "-n", "5"] + cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        (out / "runs").mkdir(exist_ok=True)
+        proc = subprocess.run(["nice", "-n", "5"] + cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                              env=env)
         if proc.returncode != 0:
             c["error"] = (proc.stderr.strip().splitlines() or [f"exit {proc.returncode}"])[-1]
             continue
@@ -242,7 +272,7 @@ def main(argv):
     with open(out / "stress.json", "w") as f:
         json.dump({"seed": args.seed, "args": vars(args), "seconds": seconds, "summary": line, "cases": cases},
                   f, indent=1, default=float)
-    if any("verdict" not in c for c in cases):
+    if not cases or any("verdict" not in c for c in cases):
         return 2
     return 0 if all(c["verdict"]["ok"] for c in cases) else 1
 
