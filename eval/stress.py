@@ -220,7 +220,8 @@ def print_table(cases):
                    f" its median, none {v['none_vs_median']:.2f}x)")
         extra = ("u" if c["unorm"] else "-") + "/" + (f"{c['noise']:.2f}" if c["noise"] > 0 else "-")
         print(f"{c['name']:9} {c['scene']:12} {c['resolution']:>3} {c['ppd']:>3g} {c['app_hz']:>2g}"
-              f" {'y' if c['mipmaps'] else 'n':>3} {c['frames']:>2} {extra:>6}  {describe_picture(c)[:34]:34} {describe_motion(c)[:34]:34} {v['head_p95']:6.2f}"
+              f" {'y' if c['mipmaps'] else 'n':>3} {c['frames']:>2} {extra:>6}  {describe_picture(c)[:34]:34}"
+              f" {describe_motion(c)[:34]:34} {v['head_p95']:6.2f}"
               f" {v['mean_ratio']:8.3f} {worst:>11} {rec:>4} {v['taa_ratio']:7.3f}  "
               f"{'ok' if not flags else 'BROKEN ' + '+'.join(flags)}{why}")
 
