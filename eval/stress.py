@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
 """Held-out stress of issue 14's first promise: the default is never worse than no filter.
 
-Draws N cases (picture, head-motion trace, scene, resolution, pixel density, mipmaps, frames) from a
-seed, writes the pictures (eval/stress_pictures.py) and traces (eval/stress_motion.py), runs
-steadyxr-eval on each with `none,taa,taa+jitter,default` (+ --methods), and prints a verdict per
-case: default / none mean RMSE, the worst frame's ratio to none's in that frame, the frames to get
-back below none after a motion change, default / the better taa. Exit status 1 when the promise
-is broken anywhere (mean above none, a frame above 1.10x none's, recovery over 3 frames: the
-targets as eval/targets.cpp checks them), 2 when the eval itself fails.
+Draws N cases (picture, head-motion trace, scene, eye size, pixel density, app rate, mipmaps, UNORM,
+per-frame noise, frames) from a seed, writes the pictures (eval/stress_pictures.py) and traces
+(eval/stress_motion.py), runs steadyxr-eval on each with `none,taa,taa+jitter,default` (+ --methods),
+and prints a verdict per case: default / none mean RMSE, the worst frame's ratio to none's in that
+frame, the frames to get back below none after a motion change, default / the better taa. Exit
+status 1 when the promise is broken anywhere (mean above none, a frame above 1.10x none's, recovery
+over 3 frames: the targets as eval/targets.cpp checks them), 2 when the eval itself fails.
 
   python3 eval/stress.py --eval build/eval/steadyxr-eval --seed 1 --cases 40 --out /tmp/stress1
 
@@ -40,7 +40,8 @@ WORST_FRAME_LIMIT = 1.10
 RECOVERY_LIMIT = 3
 # --ppd values: off (the corpus's ~0.85 px/deg at 96 px), Valve Index ~14, Quest 2 ~20 (eval --help).
 PPD_CHOICES = [0.0, 14.0, 20.0]
-# Scenes other than the image viewer take the trace too (their own geometry; the picture is unused).
+# Scenes other than the image viewer take the trace too (their own geometry and textures: the drawn
+# picture is written but unused there, eval/scene.cpp).
 # thin and disocclusion are stretched in depth under --ppd and fit up to about 15 ppd at 96 px, 30
 # at 192 (README "--ppd"): allowed up to 14 ppd per 96 px.
 SCENE_WEIGHTS = {"imageviewer": 0.7, "moving": 0.1, "thin": 0.1, "disocclusion": 0.1}
@@ -57,7 +58,8 @@ def parse_args(argv):
     p.add_argument("--methods", default="", help="methods beside none,taa,taa+jitter,default")
     p.add_argument("--resolutions", default="96,112,128", help="eye image sizes to draw from")
     p.add_argument("--frames", default="24,32,40,48", help="frame counts to draw from")
-    p.add_argument("--ppd", default="0,14,20", help="pixel densities to draw from (0: the eval's default fov)")
+    p.add_argument("--ppd", default=",".join(f"{x:g}" for x in PPD_CHOICES),
+                   help="pixel densities to draw from (0: the eval's default fov)")
     p.add_argument("--no-mipmaps-fraction", type=float, default=0.3, help="share of cases with --no-mipmaps")
     p.add_argument("--scenes", default=",".join(SCENE_WEIGHTS), help="scenes to draw from")
     p.add_argument("--app-hz", default=",".join(f"{x:g}" for x in APP_HZ_CHOICES), help="app rates to draw from")
@@ -186,6 +188,8 @@ def judge(case, out_dir):
 
 
 def describe_picture(case):
+    if case["scene"] != "imageviewer":
+        return "(the scene's own)"
     p = case["picture_params"]
     keys = [k for k in ("kind", "beta", "f", "f_max", "side_px", "glyph_px", "codes", "lines", "specks") if k in p]
     return case["picture_kind"] + "(" + ",".join(f"{k}={p[k]}" for k in keys if k != "kind") + \
@@ -240,6 +244,27 @@ def summary(cases):
             f"eval failures {sum('verdict' not in c for c in cases)}")
 
 
+def breakdown(cases):
+    """One line per drawn axis: default / none mean over the cases with each value, (cases, worst case,
+    cases broken), so that a failure's axis shows (e.g. the app rate)."""
+    axes = {"scene": lambda c: c["scene"], "picture": lambda c: c["picture_kind"] if c["scene"] == "imageviewer"
+            else None, "motion": lambda c: c["motion_kind"], "ppd": lambda c: f"{c['ppd']:g}",
+            "app Hz": lambda c: f"{c['app_hz']:g}", "mipmaps": lambda c: "y" if c["mipmaps"] else "n"}
+    lines = []
+    for axis, key in axes.items():
+        groups = {}
+        for c in cases:
+            if "verdict" in c and key(c) is not None:
+                groups.setdefault(key(c), []).append(c["verdict"])
+        parts = []
+        for value, vs in sorted(groups.items()):
+            ratios = [v["mean_ratio"] for v in vs]
+            parts.append(f"{value} {np.mean(ratios):.3f} ({len(vs)}, worst {max(ratios):.3f}, "
+                         f"broken {sum(not v['ok'] for v in vs)})")
+        lines.append(f"by {axis}: " + "; ".join(parts))
+    return lines
+
+
 def main(argv):
     args = parse_args(argv)
     out = Path(args.out)
@@ -269,6 +294,7 @@ def main(argv):
     seconds = time.monotonic() - started
     print_table(cases)
     line = summary(cases)
+    print("\n" + "\n".join(breakdown(cases)))
     print(f"\n{line}; {seconds:.0f} s")
     with open(out / "stress.json", "w") as f:
         json.dump({"seed": args.seed, "args": vars(args), "seconds": seconds, "summary": line, "cases": cases},
