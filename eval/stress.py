@@ -261,7 +261,8 @@ def breakdown(cases):
             ratios = [v["mean_ratio"] for v in vs]
             parts.append(f"{value} {np.mean(ratios):.3f} ({len(vs)}, worst {max(ratios):.3f}, "
                          f"broken {sum(not v['ok'] for v in vs)})")
-        lines.append(f"by {axis}: " + "; ".join(parts))
+        if parts:
+            lines.append(f"by {axis}: " + "; ".join(parts))
     return lines
 
 
