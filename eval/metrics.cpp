@@ -222,8 +222,12 @@ Ghosting ghostingPerFrame(const std::vector<double>& methodRmse, const std::vect
                           const std::vector<int>& changeFrames) {
   Ghosting g;
   const size_t n = std::min(methodRmse.size(), noneRmse.size());
+  // none's error counts as at least the 8-bit floor: below it both are as exact as the display
+  // format can be, and a ratio of two such errors says nothing (e.g. 5.9e-5 against 5.3e-5 once the
+  // picture has left the view, eval/stress.py).
+  auto noneAt = [&](size_t k) { return std::max(noneRmse[k], kEightBitRmseFloor); };
   for (size_t k = 0; k < n; ++k) {
-    const double ratio = noneRmse[k] > 0.0 ? methodRmse[k] / noneRmse[k] : (methodRmse[k] > 0.0 ? 1e9 : 1.0);
+    const double ratio = methodRmse[k] / noneAt(k);
     if (g.worstFrame < 0 || ratio > g.worstRatio) {
       g.worstRatio = ratio;
       g.worstFrame = static_cast<int>(k);
@@ -232,7 +236,7 @@ Ghosting ghostingPerFrame(const std::vector<double>& methodRmse, const std::vect
   for (int change : changeFrames) {
     if (change < 0 || static_cast<size_t>(change) >= n) continue;
     size_t k = static_cast<size_t>(change);
-    while (k < n && methodRmse[k] > noneRmse[k]) ++k;
+    while (k < n && methodRmse[k] > noneAt(k)) ++k;
     if (k == n) g.recovered = false;
     g.recoveryFrames = std::max(g.recoveryFrames, static_cast<int>(k) - change);
   }

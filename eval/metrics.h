@@ -66,9 +66,14 @@ double stereoErrorPerPixel(const Image& leftOut, const Image& rightOut, const Im
 std::vector<int> detectMotionChanges(const std::vector<double>& headSpeedDegPerSec,
                                      double thresholdDegPerSec);
 
-// Ghosting per frame of one method against `none` over the same frames of one case.
+// The RMS error of rounding to 8 bits (step 1/255, error uniform over +-half a step: 1/(255 sqrt 12)):
+// a per-frame RMSE below it is as exact as an 8-bit image can be.
+inline constexpr double kEightBitRmseFloor = 1.0 / (255.0 * 3.4641016151377544);
+
+// Ghosting per frame of one method against `none` over the same frames of one case, none's RMSE
+// taken as at least kEightBitRmseFloor.
 struct Ghosting {
-  double worstRatio = 0.0;  // max over frames of rmse_method / rmse_none
+  double worstRatio = 0.0;  // max over frames of rmse_method / max(rmse_none, floor)
   int worstFrame = -1;
   // Max over the motion changes of the frames from the change until the method's RMSE is back at
   // or below none's (0: never above); a change it never recovers from counts the frames to the end.

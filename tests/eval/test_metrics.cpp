@@ -269,6 +269,22 @@ TEST(EvalGhosting, WorstFrameAndRecovery) {
   EXPECT_EQ(ghostingPerFrame(none, none, {1, 2}).recoveryFrames, 0);
 }
 
+// Below the 8-bit rounding floor two errors are both "exact": their ratio is not ghosting. A real
+// ghost over a frame where none is exact still counts, against the floor.
+TEST(EvalGhosting, NoneBelowTheEightBitFloorCountsAsTheFloor) {
+  const double floor = 1.0 / (255.0 * std::sqrt(12.0));
+  const std::vector<double> none = {0.01, 5.3e-5, 5.3e-5, 0.0}, tiny = {0.005, 5.9e-5, 6e-4, 1e-4};
+  const Ghosting g = ghostingPerFrame(tiny, none, {1});
+  EXPECT_DOUBLE_EQ(g.worstRatio, 6e-4 / floor);
+  EXPECT_EQ(g.worstFrame, 2);
+  EXPECT_EQ(g.recoveryFrames, 0);  // 5.9e-5 is not "above" none's 5.3e-5 at the floor
+  const std::vector<double> ghost = {0.005, 0.004, 5e-4, 0.0};
+  const Ghosting gg = ghostingPerFrame(ghost, none, {1});
+  EXPECT_NEAR(gg.worstRatio, 0.004 / floor, 1e-9);  // 3.5x the floor: a ghost where none is exact
+  EXPECT_EQ(gg.worstFrame, 1);
+  EXPECT_EQ(gg.recoveryFrames, 1);
+}
+
 TEST(EvalGhosting, PercentileIsNearestRank) {
   std::vector<double> v;
   for (int i = 100; i >= 1; --i) v.push_back(i);

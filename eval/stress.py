@@ -1,0 +1,309 @@
+#!/usr/bin/env python3
+"""Held-out stress of issue 14's first promise: the default is never worse than no filter.
+
+Draws N cases (picture, head-motion trace, scene, eye size, pixel density, app rate, mipmaps, UNORM,
+per-frame noise, frames) from a seed, writes the pictures (eval/stress_pictures.py) and traces
+(eval/stress_motion.py), runs steadyxr-eval on each with `none,taa,taa+jitter,default` (+ --methods),
+and prints a verdict per case: default / none mean RMSE, the worst frame's ratio to none's in that
+frame, the frames to get back below none after a motion change, default / the better taa. Exit
+status 1 when the promise is broken anywhere (mean above none, a frame above 1.10x none's, recovery
+over 3 frames: the targets as eval/targets.cpp checks them), 2 when the eval itself fails.
+
+  python3 eval/stress.py --eval build/eval/steadyxr-eval --seed 1 --cases 40 --out /tmp/stress1
+
+Everything drawn depends only on --seed and the case's index, so a case is reproduced alone with
+--only INDEX (same seed, same --cases ranges).
+"""
+
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import stress_motion  # noqa: E402
+import stress_pictures  # noqa: E402
+
+BASE_METHODS = ["none", "taa", "taa+jitter", "default"]
+# App frame rates: the eval's default 30 Hz (eval/main.cpp), a 90 Hz headset at half rate (45,
+# reprojection), Quest's 72 Hz and full 90 Hz: the head moves 3x less per frame at 90 than at 30.
+APP_HZ_CHOICES = [30.0, 45.0, 72.0, 90.0]
+# issue 14 (eval/targets.cpp): worst frame <= 1.10x none's, back below none within 3 frames.
+WORST_FRAME_LIMIT = 1.10
+RECOVERY_LIMIT = 3
+# --ppd values: off (the corpus's ~0.85 px/deg at 96 px), Valve Index ~14, Quest 2 ~20 (eval --help).
+PPD_CHOICES = [0.0, 14.0, 20.0]
+# Scenes other than the image viewer take the trace too (their own geometry and textures: the drawn
+# picture is written but unused there, eval/scene.cpp).
+# thin and disocclusion are stretched in depth under --ppd and fit up to about 15 ppd at 96 px, 30
+# at 192 (README "--ppd"): allowed up to 14 ppd per 96 px.
+SCENE_WEIGHTS = {"imageviewer": 0.7, "moving": 0.1, "thin": 0.1, "disocclusion": 0.1}
+DEPTH_SCENES_PPD_PER_96PX = 14.0
+
+
+def parse_args(argv):
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--eval", required=True, help="path to steadyxr-eval")
+    p.add_argument("--out", required=True, help="output folder (pictures, traces, one eval run per case)")
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--cases", type=int, default=40)
+    p.add_argument("--only", type=int, action="append", help="run only these case indices (repeatable)")
+    p.add_argument("--methods", default="", help="methods beside none,taa,taa+jitter,default")
+    p.add_argument("--resolutions", default="96,112,128", help="eye image sizes to draw from")
+    p.add_argument("--frames", default="24,32,40,48", help="frame counts to draw from")
+    p.add_argument("--ppd", default=",".join(f"{x:g}" for x in PPD_CHOICES),
+                   help="pixel densities to draw from (0: the eval's default fov)")
+    p.add_argument("--no-mipmaps-fraction", type=float, default=0.3, help="share of cases with --no-mipmaps")
+    p.add_argument("--scenes", default=",".join(SCENE_WEIGHTS), help="scenes to draw from")
+    p.add_argument("--app-hz", default=",".join(f"{x:g}" for x in APP_HZ_CHOICES), help="app rates to draw from")
+    p.add_argument("--unorm-fraction", type=float, default=0.1, help="share of cases with --unorm")
+    p.add_argument("--noise-fraction", type=float, default=0.1,
+                   help="share of cases with per-frame noise (--noise 0.01-0.08; 0.08 is the noisy scene's)")
+    p.add_argument("--generate-only", action="store_true", help="write pictures and traces, run nothing")
+    return p.parse_args(argv)
+
+
+def draw_case(seed, index, args):
+    """Everything about case `index`: its own Generator, so cases do not depend on each other."""
+    rng = np.random.default_rng([seed, index])
+    picture_kinds = list(stress_pictures.KINDS)
+    motion_kinds = stress_motion.KINDS
+    # Stratified: the kinds take turns (offset per seed), the rest is drawn.
+    picture = picture_kinds[(index + seed) % len(picture_kinds)]
+    motion = motion_kinds[(index // len(picture_kinds) + index + 3 * seed) % len(motion_kinds)]
+    scenes = [s for s in args.scenes.split(",") if s]
+    weights = np.array([SCENE_WEIGHTS.get(s, 0.1) for s in scenes])
+    scene = str(rng.choice(scenes, p=weights / weights.sum()))
+    resolution = int(rng.choice([int(r) for r in args.resolutions.split(",")]))
+    frames = int(rng.choice([int(f) for f in args.frames.split(",")]))
+    ppd = float(rng.choice([float(x) for x in args.ppd.split(",")]))
+    if scene in ("thin", "disocclusion") and ppd > DEPTH_SCENES_PPD_PER_96PX * resolution / 96.0:
+        ppd = 0.0
+    mipmaps = bool(rng.uniform() >= args.no_mipmaps_fraction)
+    app_hz = float(rng.choice([float(x) for x in args.app_hz.split(",")]))
+    unorm = bool(rng.uniform() < args.unorm_fraction)
+    noise = float(np.exp(rng.uniform(np.log(0.01), np.log(0.08)))) if rng.uniform() < args.noise_fraction else 0.0
+    return {
+        "index": index,
+        "name": f"s{seed}c{index:03d}",
+        "picture_kind": picture,
+        "motion_kind": motion,
+        "scene": scene,
+        "resolution": resolution,
+        "frames": frames,
+        "ppd": ppd,
+        "mipmaps": mipmaps,
+        "app_hz": app_hz,
+        "unorm": unorm,
+        "noise": round(noise, 4),
+        "rng": rng,
+    }
+
+
+def write_case_inputs(case, out):
+    """Writes the case's picture and trace; returns their paths and drawn parameters."""
+    rng = case.pop("rng")
+    pixels, picture_params = stress_pictures.make_picture(case["picture_kind"], rng, case["resolution"])
+    run_s = case["frames"] / case["app_hz"]
+    rows, motion_params = stress_motion.make_trace(case["motion_kind"], rng, run_s)
+    picture_path = out / "pictures" / f"{case['name']}-{case['picture_kind']}.png"
+    trace_path = out / "traces" / f"{case['name']}-{case['motion_kind']}.csv"
+    picture_path.parent.mkdir(parents=True, exist_ok=True)
+    trace_path.parent.mkdir(parents=True, exist_ok=True)
+    Image.fromarray(pixels, "RGB").save(picture_path)
+    stress_motion.write_trace(trace_path, rows)
+    case.update(picture=str(picture_path), trace=str(trace_path), picture_params=picture_params,
+                motion_params=motion_params)
+    return case
+
+
+def eval_command(case, args, out_dir):
+    methods = BASE_METHODS + [m for m in args.methods.split(",") if m and m not in BASE_METHODS]
+    cmd = [args.eval, "--scenes", case["scene"], "--trace", case["trace"], "--images", case["picture"],
+           "--methods", ",".join(methods), "--resolution", f"{case['resolution']}x{case['resolution']}",
+           "--frames", str(case["frames"]), "--seed", str(case["index"]),
+           # As --corpus: display at the app rate, no seed 004 study (its extra truths cost 3x).
+           "--app-hz", f"{case['app_hz']:g}", "--display-hz", f"{case['app_hz']:g}", "--warp-steps", "0",
+           "--no-sweeps", "--no-progress",
+           "--out", str(out_dir)]
+    if case["ppd"] > 0:
+        cmd += ["--ppd", f"{case['ppd']:g}"]
+    if not case["mipmaps"]:
+        cmd.append("--no-mipmaps")
+    if case["unorm"]:
+        cmd.append("--unorm")
+    if case["noise"] > 0:
+        cmd += ["--noise", f"{case['noise']:g}"]
+    return cmd
+
+
+def read_rows(out_dir):
+    with open(out_dir / "results.csv", newline="") as f:
+        return {r["method"]: r for r in csv.DictReader(f)}
+
+
+def read_frames(out_dir, method):
+    with open(out_dir / "timeseries.csv", newline="") as f:
+        return [float(r["rmse"]) for r in csv.DictReader(f) if r["method"] == method]
+
+
+def judge(case, out_dir):
+    """The verdict of one case from its results.csv (and timeseries.csv for the worst frame)."""
+    rows = read_rows(out_dir)
+    d, n = rows["default"], rows["none"]
+    best_taa = min(float(rows[m]["rmse"]) for m in ("taa", "taa+jitter") if m in rows)
+    v = {
+        "mean_ratio": float(d["rmse"]) / float(n["rmse"]),
+        "worst_ratio": float(d["ghost_worst_ratio"]),
+        "worst_frame": int(d["ghost_worst_frame"]),
+        "recovery": int(d["recovery_frames"]),
+        "recovered": d["recovered"] == "1",
+        "changes": int(d["motion_changes"]),
+        "taa_ratio": float(d["rmse"]) / best_taa,
+        "head_p95": float(d["head_speed_p95"]),
+    }
+    # What the worst frame was: the default's error rising (a ghost) or none's falling (a lucky
+    # frame of none's, its sampling grid on the picture's phase), each against its own median.
+    dframes, nframes = read_frames(out_dir, "default"), read_frames(out_dir, "none")
+    k = v["worst_frame"]
+    if 0 <= k < len(dframes) and k < len(nframes):
+        v["default_vs_median"] = dframes[k] / max(float(np.median(dframes)), 1e-12)
+        v["none_vs_median"] = nframes[k] / max(float(np.median(nframes)), 1e-12)
+    v["mean_ok"] = v["mean_ratio"] <= 1.0
+    v["worst_ok"] = v["worst_ratio"] <= WORST_FRAME_LIMIT
+    v["recovery_ok"] = v["recovered"] and v["recovery"] <= RECOVERY_LIMIT
+    v["ok"] = v["mean_ok"] and v["worst_ok"] and v["recovery_ok"]
+    # A frame miss where the default is no worse than its own median is none's luck, not a ghost
+    # (README "--ppd": the grid falls on the picture's phase and none is nearly exact). Reported
+    # apart, still a miss by the target's letter.
+    v["lucky_none"] = not v["worst_ok"] and v.get("default_vs_median", 2.0) <= 1.0
+    return v
+
+
+def describe_picture(case):
+    if case["scene"] != "imageviewer":
+        return "(the scene's own)"
+    p = case["picture_params"]
+    keys = [k for k in ("kind", "beta", "f", "f_max", "side_px", "glyph_px", "codes", "lines", "specks") if k in p]
+    return case["picture_kind"] + "(" + ",".join(f"{k}={p[k]}" for k in keys if k != "kind") + \
+        (f"{',' if len(keys) > 1 else ''}{p['kind']}" if "kind" in p else "") + ")"
+
+
+def describe_motion(case):
+    p = case["motion_params"]
+    short = {"tremor_rms_deg": "tr", "drift_deg_s": "dr", "sway_hz": "sw", "pursuit_deg_s": "pu",
+             "saccade_deg": "sa", "turn_peak_deg_s": "tu"}
+    return case["motion_kind"] + "(" + ",".join(f"{s}={p[k]}" for k, s in short.items() if k in p) + ")"
+
+
+def print_table(cases):
+    head = (f"{'case':9} {'scene':12} {'res':>3} {'ppd':>3} {'hz':>2} {'mip':>3} {'fr':>2} {'un/nz':>6}  {'picture':34}"
+            f" {'motion':34}"
+            f" {'p95':>6} {'def/none':>8} {'worst':>11} {'rec':>4} {'def/taa':>7}  verdict")
+    print(head)
+    print("-" * len(head))
+    for c in cases:
+        v = c.get("verdict")
+        if v is None:
+            print(f"{c['name']:9} {c['scene']:12} eval failed: {c.get('error', '?')}")
+            continue
+        worst = f"{v['worst_ratio']:.3f}@{v['worst_frame']}"
+        rec = f"{v['recovery']}{'' if v['recovered'] else '+'}"
+        flags = [name for name, ok in (("MEAN", v["mean_ok"]), ("FRAME", v["worst_ok"]),
+                                       ("RECOVERY", v["recovery_ok"])) if not ok]
+        why = ""
+        if not v["worst_ok"] and "none_vs_median" in v:
+            why = (f" ({'none lucky' if v['lucky_none'] else 'default rose'}: default {v['default_vs_median']:.2f}x"
+                   f" its median, none {v['none_vs_median']:.2f}x)")
+        extra = ("u" if c["unorm"] else "-") + "/" + (f"{c['noise']:.2f}" if c["noise"] > 0 else "-")
+        print(f"{c['name']:9} {c['scene']:12} {c['resolution']:>3} {c['ppd']:>3g} {c['app_hz']:>2g}"
+              f" {'y' if c['mipmaps'] else 'n':>3} {c['frames']:>2} {extra:>6}  {describe_picture(c)[:34]:34}"
+              f" {describe_motion(c)[:34]:34} {v['head_p95']:6.2f}"
+              f" {v['mean_ratio']:8.3f} {worst:>11} {rec:>4} {v['taa_ratio']:7.3f}  "
+              f"{'ok' if not flags else 'BROKEN ' + '+'.join(flags)}{why}")
+
+
+def summary(cases):
+    judged = [c["verdict"] for c in cases if "verdict" in c]
+    if not judged:
+        return "no case judged"
+    ratios = np.array([v["mean_ratio"] for v in judged])
+    return (f"{len(judged)} cases: default/none mean {ratios.mean():.3f} (worst {ratios.max():.3f}); "
+            f"mean above none in {sum(not v['mean_ok'] for v in judged)}, a frame above {WORST_FRAME_LIMIT:.2f}x in "
+            f"{sum(not v['worst_ok'] for v in judged)} (worst {max(v['worst_ratio'] for v in judged):.3f}x; "
+            f"{sum(v['lucky_none'] for v in judged)} of them none's lucky frame), "
+            f"recovery over {RECOVERY_LIMIT} frames in {sum(not v['recovery_ok'] for v in judged)}; "
+            f"default <= the better taa in {sum(v['taa_ratio'] <= 1.0 for v in judged)}/{len(judged)}; "
+            f"eval failures {sum('verdict' not in c for c in cases)}")
+
+
+def breakdown(cases):
+    """One line per drawn axis: default / none mean over the cases with each value, (cases, worst case,
+    cases broken), so that a failure's axis shows (e.g. the app rate)."""
+    axes = {"scene": lambda c: c["scene"], "picture": lambda c: c["picture_kind"] if c["scene"] == "imageviewer"
+            else None, "motion": lambda c: c["motion_kind"], "ppd": lambda c: f"{c['ppd']:g}",
+            "app Hz": lambda c: f"{c['app_hz']:g}", "mipmaps": lambda c: "y" if c["mipmaps"] else "n"}
+    lines = []
+    for axis, key in axes.items():
+        groups = {}
+        for c in cases:
+            if "verdict" in c and key(c) is not None:
+                groups.setdefault(key(c), []).append(c["verdict"])
+        parts = []
+        for value, vs in sorted(groups.items()):
+            ratios = [v["mean_ratio"] for v in vs]
+            parts.append(f"{value} {np.mean(ratios):.3f} ({len(vs)}, worst {max(ratios):.3f}, "
+                         f"broken {sum(not v['ok'] for v in vs)})")
+        if parts:
+            lines.append(f"by {axis}: " + "; ".join(parts))
+    return lines
+
+
+def main(argv):
+    args = parse_args(argv)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    indices = args.only if args.only else range(args.cases)
+    cases = [write_case_inputs(draw_case(args.seed, i, args), out) for i in indices]
+    if args.generate_only:
+        print(f"wrote {len(cases)} pictures and traces under {out}")
+        return 0
+    started = time.monotonic()
+    for c in cases:
+        run_dir = out / "runs" / c["name"]
+        cmd = eval_command(c, args, run_dir)
+        c["command"] = " ".join(cmd)
+        (run_dir / "results.csv").unlink(missing_ok=True)  # never judge a previous run's results
+        # Under the sanitizer build, leak reports would come from the Vulkan driver's (Mesa/LLVM)
+        # process-lifetime allocations (as tests/eval/run_small_suite.py): keep ASan's other checks.
+        env = dict(os.environ)
+        env["ASAN_OPTIONS"] = (env.get("ASAN_OPTIONS", "") + ":detect_leaks=0").lstrip(":")
+        # Shared 2-core machines: below the interactive work (common practice here: nice -n 5).
+        proc = subprocess.run(["nice", "-n", "5"] + cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                              env=env)
+        if proc.returncode != 0:
+            c["error"] = (proc.stderr.strip().splitlines() or [f"exit {proc.returncode}"])[-1]
+            continue
+        c["verdict"] = judge(c, run_dir)
+    seconds = time.monotonic() - started
+    print_table(cases)
+    line = summary(cases)
+    print("\n" + "\n".join(breakdown(cases)))
+    print(f"\n{line}; {seconds:.0f} s")
+    with open(out / "stress.json", "w") as f:
+        json.dump({"seed": args.seed, "args": vars(args), "seconds": seconds, "summary": line, "cases": cases},
+                  f, indent=1, default=float)
+    if not cases or any("verdict" not in c for c in cases):
+        return 2
+    return 0 if all(c["verdict"]["ok"] for c in cases) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

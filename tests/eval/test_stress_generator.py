@@ -1,0 +1,126 @@
+#!/usr/bin/env python3
+"""CI: eval/stress.py's generator draws what its docstrings say (no GPU).
+
+Each check is written from the definition of the stressor, not from the generator's code:
+determinism; a trace's angular velocity integrates to its own orientations (as imu::loadTrace
+integrates wx,wy,wz); tremor power lies in the 8-12 Hz band at the drawn RMS; a microsaccade
+moves the head by its drawn size; a turn peaks at its drawn speed; power-law noise has the drawn
+spectral slope; a sine grating has the drawn frequency in cycles per screen pixel.
+usage: test_stress_generator.py EVAL_DIR"""
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, sys.argv[1])
+import stress_motion as sm  # noqa: E402
+import stress_pictures as sp  # noqa: E402
+
+
+def rng(i):
+    return np.random.default_rng([7, i])
+
+
+def quat_mul(a, b):
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return np.array([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+                     aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw])
+
+
+def integrate_omega(rows):
+    """Orientation from the head-frame angular velocity, trapezoidal (imu/src/motion.cpp loadTrace)."""
+    q = rows[0, 1:5].copy()
+    out = [q]
+    for i in range(1, len(rows)):
+        w = 0.5 * (rows[i - 1, 5:8] + rows[i, 5:8]) * (rows[i, 0] - rows[i - 1, 0])
+        angle = np.linalg.norm(w)
+        dq = np.array([1.0, 0, 0, 0])
+        if angle > 0:
+            dq = np.concatenate([[np.cos(angle / 2)], np.sin(angle / 2) * w / angle])
+        q = quat_mul(q, dq)
+        q /= np.linalg.norm(q)
+        out.append(q)
+    return np.array(out)
+
+
+def angle_between_deg(q1, q2):
+    return np.degrees(2 * np.arccos(np.clip(np.abs(np.sum(q1 * q2, axis=-1)), 0, 1)))
+
+
+# 1. Determinism: the same (seed, index) gives the same picture and trace, another index does not.
+for kind in sp.KINDS:
+    a, _ = sp.make_picture(kind, rng(1), 96)
+    b, _ = sp.make_picture(kind, rng(1), 96)
+    c, _ = sp.make_picture(kind, rng(2), 96)
+    assert a.shape == (sp.picture_size(96)[1], sp.picture_size(96)[0], 3) and a.dtype == np.uint8, kind
+    assert np.array_equal(a, b) and not np.array_equal(a, c), kind
+for kind in sm.KINDS:
+    a, pa = sm.make_trace(kind, rng(3), 1.2)
+    b, pb = sm.make_trace(kind, rng(3), 1.2)
+    assert np.array_equal(a, b) and pa == pb, kind
+    assert np.allclose(np.linalg.norm(a[:, 1:5], axis=1), 1.0, atol=1e-9), kind
+    assert np.allclose(np.diff(a[:, 0]), 1.0 / sm.RATE_HZ) and a[-1, 0] >= 1.2 + 0.49, kind
+    # 2. wx,wy,wz are the head-frame rates of the written orientations: integrating them (as the
+    #    eval does for a trace without quaternions) stays on the quaternions.
+    drift_deg = angle_between_deg(integrate_omega(a), a[:, 1:5]).max()
+    assert drift_deg < 0.01, f"{kind}: angular velocity integrates {drift_deg:.4f} deg away from the orientations"
+    # The eyes turn about the neck pivot: at identity orientation they are at the origin.
+    assert np.linalg.norm(a[0, 8:11]) < 0.05, kind
+
+# 3. Tremor alone: its power in the 8-12 Hz band, at the drawn RMS per axis (small angles: the
+#    rotation vector's components are the per-axis angles).
+rows, p = sm.make_trace("tremor", rng(4), 4.0)
+angles = np.degrees(2 * rows[:, 2:5] * np.sign(rows[:, 1:2]))
+for axis in range(3):
+    x = angles[:, axis] - angles[:, axis].mean()
+    assert abs(x.std() / p["tremor_rms_deg"] - 1) < 0.02, (axis, x.std(), p)
+    power = np.abs(np.fft.rfft(x)) ** 2
+    f = np.fft.rfftfreq(len(x), 1 / sm.RATE_HZ)
+    assert power[(f >= 8) & (f <= 12)].sum() > 0.99 * power.sum(), axis
+
+# 4. A microsaccade moves the head by its drawn size (tremor aside: compare the mean pose well
+#    before and well after the jump), and lasts about its main-sequence duration.
+for i in range(5, 9):
+    rows, p = sm.make_trace("saccade", rng(i), 1.6)
+    t0 = p["saccade_s"]
+    before = rows[(rows[:, 0] > t0 - 0.2) & (rows[:, 0] < t0), 1:5].mean(axis=0)
+    after = rows[(rows[:, 0] > t0 + 0.1) & (rows[:, 0] < t0 + 0.3), 1:5].mean(axis=0)
+    jump = angle_between_deg(before / np.linalg.norm(before), after / np.linalg.norm(after))
+    assert abs(jump - p["saccade_deg"]) < 0.05 * p["saccade_deg"] + 3 * p["tremor_rms_deg"] / np.sqrt(50), (jump, p)
+
+# 5. A turn reaches its drawn peak speed (the eval's head speed is |w|), tremor aside.
+for i in range(9, 12):
+    rows, p = sm.make_trace("turn", rng(i), 2.0)
+    peak = np.degrees(np.linalg.norm(rows[:, 5:8], axis=1)).max()
+    # Tremor adds up to a few times its RMS angular speed (2 pi 12 Hz x RMS per axis).
+    tremor_speed = 10 * p["tremor_rms_deg"] * 2 * np.pi * 12
+    assert abs(peak - p["turn_peak_deg_s"]) < 0.03 * p["turn_peak_deg_s"] + tremor_speed, (peak, p)
+
+# 6. Power-law noise: the radially averaged power spectrum falls with the drawn slope -beta.
+for i in range(12, 18):
+    pixels, p = sp.make_picture("noise", rng(i), 128)
+    v = pixels.astype(np.float64).mean(axis=2)
+    h, w = v.shape
+    power = np.abs(np.fft.fft2(v - v.mean())) ** 2
+    f = np.hypot(np.fft.fftfreq(h)[:, None] * sp.OVERSAMPLE, np.fft.fftfreq(w)[None, :] * sp.OVERSAMPLE)
+    # Fit over the band between a few cycles per picture and below the 8-bit rounding floor.
+    band = (f > 8 * sp.OVERSAMPLE / min(w, h)) & (f < 0.5)
+    slope = np.polyfit(np.log(f[band]), np.log(power[band]), 1)[0]
+    assert abs(-slope - p["beta"]) < 0.25, (slope, p)
+
+# 7. A sine grating: its strongest frequency, in cycles per screen pixel, is the drawn one.
+found = 0
+for i in range(18, 60):
+    pixels, p = sp.make_picture("grating", rng(i), 128)
+    if p["kind"] != "sine":
+        continue
+    v = pixels.astype(np.float64).mean(axis=2)
+    h, w = v.shape
+    power = np.abs(np.fft.fft2(v - v.mean()))
+    ky, kx = np.unravel_index(np.argmax(power), power.shape)
+    fy, fx = np.fft.fftfreq(h)[ky] * sp.OVERSAMPLE, np.fft.fftfreq(w)[kx] * sp.OVERSAMPLE
+    assert abs(np.hypot(fx, fy) - p["f"]) < 1.5 * sp.OVERSAMPLE / min(w, h), (np.hypot(fx, fy), p)
+    found += 1
+assert found >= 3, "too few sine gratings drawn to check"
+print("stress generator OK")
