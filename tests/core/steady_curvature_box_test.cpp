@@ -84,17 +84,18 @@ float checker(glm::vec3 worldDir, uint32_t W) {
 // The picture a view sees: each pixel the mean of sub x sub point samples over its area (sub = 1:
 // its centre, the render; sub = 8: the pixel-area average, the ground truth).
 HostImage renderChecker(const RefView& view, uint32_t W, uint32_t H, int sub) {
+  // The checkerboard seen through pixel position (px, py): its ray turned into the world.
+  auto seen = [&](float px, float py) {
+    const glm::vec3 eyeDir(2.0f * px / float(W) - 1.0f, 1.0f - 2.0f * py / float(H), -1.0f);
+    return checker(view.pose.orientation * glm::normalize(eyeDir), W);
+  };
   HostImage img(W, H);
   for (uint32_t y = 0; y < H; ++y)
     for (uint32_t x = 0; x < W; ++x) {
       float sum = 0.0f;
-      for (int j = 0; j < sub; ++j)
-        for (int i = 0; i < sub; ++i) {
-          const float px = float(x) + (float(i) + 0.5f) / float(sub),
-                      py = float(y) + (float(j) + 0.5f) / float(sub);
-          const glm::vec3 eyeDir(2.0f * px / float(W) - 1.0f, 1.0f - 2.0f * py / float(H), -1.0f);
-          sum += checker(view.pose.orientation * glm::normalize(eyeDir), W);
-        }
+      for (int k = 0; k < sub * sub; ++k)  // a sub x sub grid of sample positions
+        sum += seen(float(x) + (float(k % sub) + 0.5f) / float(sub),
+                    float(y) + (float(k / sub) + 0.5f) / float(sub));
       const float c = sum / float(sub * sub);
       img.at(x, y) = glm::vec4(c, c, c, 1.0f);
     }
