@@ -129,6 +129,10 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyClipRejects = value != 0.0f;
     else if (key == "boxcur")
       params->steadyClipHoldsCurrent = value != 0.0f;
+    else if (key == "curvbox")
+      params->steadyClipCurvature = value != 0.0f;
+    else if (key == "curvkappa")  // with curvbox=1
+      params->steadyClipCurvatureKappa = value;
     else if (key == "blur")
       params->steadyBlurBudgetPx2 = value;
     else if (key == "clip")
@@ -151,7 +155,7 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       *error =
           "unknown parameter '" + key +
           "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, tapcurv, sclip, d, catmull, floor, conf, "
-          "reject, clip, blur, footprint, fpenc, bluraxis, jrecentre, near, "
+          "reject, boxcur, curvbox, curvkappa, clip, blur, footprint, fpenc, bluraxis, jrecentre, near, "
           "interp, history=16|8, dither after history=8)";
       return false;
     }

@@ -100,6 +100,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float steadyHistoryBlurPerAxis;  // steady (history read): 1 = the blur guard per axis, 0 = summed
   float steadyClipHoldsCurrent;  // steady: 1 = the clip box reaches out to the current estimate fc
   float stereoTapCurvature;      // stereo: 1 = the other eye's bilinear tap corrected by this eye's curvature
+  float steadyClipCurvatureKappa;  // steady: > 0 = the clip box bounded by kappa (|cxx| + |cyy|); 0 = off
 } P;
 
 vec3 sanitize(vec3 c) {

@@ -170,7 +170,18 @@ void processPixel(ivec2 p, ivec2 o) {
     const bool confirmed = reproject(P.reproj[0], pc, invZ, q, iz) && historyValid;
     vec4 hs = sampleHistoryRgba(q);  // q is clamped into the image inside
     vec3 d = toYCoCg(hs.rgb) - ymn;
-    vec3 clipExt2 = P.clipGamma * P.clipGamma * yvar + kQuantVar;
+    vec3 clipExt2 = P.clipGamma * P.clipGamma * yvar;
+    // Params::steadyClipCurvature (not the default): the box no wider than kappa (|cxx| + |cyy|),
+    // the largest offset of a reprojected static history from the 3x3 mean that is second order
+    // in the signal; a lag (first order) beyond it is clipped, and rejected by the clip's t^2.
+    if (P.steadyClipCurvatureKappa > 0.0) {
+      const vec3 centre2 = 2.0 * blockAt(o, 0, 0);
+      const vec3 cxx = toYCoCg(blockAt(o, -1, 0) + blockAt(o, 1, 0) - centre2);
+      const vec3 cyy = toYCoCg(blockAt(o, 0, -1) + blockAt(o, 0, 1) - centre2);
+      const vec3 curvExt = P.steadyClipCurvatureKappa * (abs(cxx) + abs(cyy));
+      clipExt2 = min(clipExt2, curvExt * curvExt);
+    }
+    clipExt2 += kQuantVar;
     // Params::steadyClipHoldsCurrent (not the default): the box reaches out, on the history's side
     // and per channel, to the current frame's own estimate of the pixel's area average (fc).
     vec3 toCur = toYCoCg(fc) - ymn;

@@ -301,6 +301,7 @@ TEST_F(Cli, EverythingItWritesTheLayerAccepts) {
                                                    {"steady_footprint_encoded", "off"},
                                                    {"steady_history_blur_per_axis", "off"},
                                                    {"steady_clip_holds_current", "on"},
+                                                   {"steady_clip_curvature", "on"},
                                                    {"stereo_inverse_variance", "off"},
                                                    {"stereo_tap_curvature", "off"},
                                                    {"stereo_clip_gamma_after_steady", "2"}};

@@ -106,13 +106,14 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   }
   if (variant == "constant") p.steadyConfidence = false;
   if (variant == "clipholdscurrent") p.steadyClipHoldsCurrent = true;
+  if (variant == "curvbox" || variant == "curvboxjitter") p.steadyClipCurvature = true;
   if (variant == "wideclip") {  // steady's clip box is its own, not taa's
     p.steadyClipGamma = 2.0f;
     p.taaClipGamma = 0.5f;
   }
   const bool withDepth = variant == "depth";
   // Jittered input: the layer's Halton(2,3) offsets, one per frame (and one frame unjittered).
-  const bool jittered = variant == "jitter" || variant == "jitterraw";
+  const bool jittered = variant == "jitter" || variant == "jitterraw" || variant == "curvboxjitter";
   p.jitteredInput = jittered;
   if (variant == "jitterraw") p.steadyJitterRecentred = false;
   auto f = makeFilter("steady", p);
@@ -161,7 +162,8 @@ TEST_P(SteadyReference, MatchesCpuReference) {
 INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
                          ::testing::Values("default", "catmull", "linearfootprint", "summedblur", "sway",
                                            "swaysummed", "interpolated", "rejectnoblur", "constant", "depth",
-                                           "wideclip", "jitter", "jitterraw", "clipholdscurrent"));
+                                           "wideclip", "jitter", "jitterraw", "clipholdscurrent", "curvbox",
+                                           "curvboxjitter"));
 
 namespace {
 // Pixels of `a` farther than `tolerance` from `b` in any channel.

@@ -124,9 +124,19 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
         // With steadyClipHoldsCurrent the box reaches, on the history's side, at least as far as the
         // current frame's own estimate `area` of the pixel.
         const vec3 areaY = toYCoCg(area);
+        // With steadyClipCurvature the box is no wider than kappa (|cxx| + |cyy|): the second
+        // differences of the current frame along x and y through this pixel's sample.
+        auto at = [&](int i, int j) { return toYCoCg(vec3(fetchClamped(cur, int(x) + i, int(y) + j))); };
+        const vec3 cxx = at(-1, 0) - 2.0f * at(0, 0) + at(1, 0);
+        const vec3 cyy = at(0, -1) - 2.0f * at(0, 0) + at(0, 1);
         float t = 0.0f;
         for (int ch = 0; ch < 3; ++ch) {
-          float box = std::sqrt(p.steadyClipGamma * p.steadyClipGamma * var[ch] + quantVar);
+          float boxVar = p.steadyClipGamma * p.steadyClipGamma * var[ch];
+          if (p.steadyClipCurvature) {
+            const float secondOrder = p.steadyClipCurvatureKappa * (std::abs(cxx[ch]) + std::abs(cyy[ch]));
+            boxVar = std::min(boxVar, secondOrder * secondOrder);
+          }
+          float box = std::sqrt(boxVar + quantVar);
           const bool currentOnHistorySide = (h[ch] - mean[ch]) * (areaY[ch] - mean[ch]) >= 0.0f;
           if (p.steadyClipHoldsCurrent && currentOnHistorySide)
             box = std::max(box, std::abs(areaY[ch] - mean[ch]));

@@ -51,7 +51,8 @@ void usage() {
                "ratio to the copy's; 'ops' its fetches+samples+stores per pixel. <method>@catmull: the\n"
                "method with the Catmull-Rom history. @blend: the far plane at the nearest depth, so\n"
                "that steady+stereo blends without depth (else it skips the pass: the disparity's\n"
-               "spread exceeds a pixel); @tapcurv=0: stereo without the tap's curvature correction.\n";
+               "spread exceeds a pixel); @tapcurv=0: stereo without the tap's curvature correction;\n"
+               "@curvbox: steady's clip box bounded by second differences (steadyClipCurvature).\n";
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -262,6 +263,8 @@ std::optional<Params> methodParams(const std::string& spec) {
           params->steadyNearestDepthM;  // has no disparity spread, so steady+stereo blends
     else if (suffix == "tapcurv=0")
       params->stereoTapCurvature = false;
+    else if (suffix == "curvbox")  // steady's clip box bounded by second differences (Params)
+      params->steadyClipCurvature = true;
     else
       return std::nullopt;
   }

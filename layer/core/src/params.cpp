@@ -98,6 +98,7 @@ std::string validate(const Params& p, Params* sanitized) {
   check(inUnit(p.steadyAlphaFloor) && p.steadyAlphaFloor > 0.0f, "steadyAlphaFloor",
         &Params::steadyAlphaFloor);
   check(positive(p.steadyClipGamma), "steadyClipGamma", &Params::steadyClipGamma);
+  check(positive(p.steadyClipCurvatureKappa), "steadyClipCurvatureKappa", &Params::steadyClipCurvatureKappa);
   check(finite(p.steadyFootprint) && p.steadyFootprint >= 0.0f && p.steadyFootprint <= 0.25f,
         "steadyFootprint", &Params::steadyFootprint);
   check(positive(p.steadyNearestDepthM) || p.steadyNearestDepthM == INFINITY, "steadyNearestDepthM",

@@ -68,6 +68,7 @@ struct PassUniforms {
   float steadyHistoryBlurPerAxis;  // steady (history read): 1 = the blur guard per axis, 0 = summed
   float steadyClipHoldsCurrent;    // steady: 1 = the clip box reaches out to the current estimate fc
   float stereoTapCurvature;  // stereo: 1 = the other eye's bilinear tap corrected by this eye's curvature
+  float steadyClipCurvatureKappa;  // steady: > 0 = the clip box bounded by kappa (|cxx| + |cyy|); 0 = off
 };
 
 // std140 offsets of PassParams in common.glsl: a host member moved fails here, a shader member
@@ -112,6 +113,7 @@ static_assert(offsetof(PassUniforms, steadyJitterRecentred) == 476);
 static_assert(offsetof(PassUniforms, steadyHistoryBlurPerAxis) == 480);
 static_assert(offsetof(PassUniforms, steadyClipHoldsCurrent) == 484);
 static_assert(offsetof(PassUniforms, stereoTapCurvature) == 488);
-static_assert(sizeof(PassUniforms) == 496);  // the block's 492 bytes, rounded up to 16 by DepthToInvZ
+static_assert(offsetof(PassUniforms, steadyClipCurvatureKappa) == 492);
+static_assert(sizeof(PassUniforms) == 496);  // the block's 496 bytes (16-aligned by DepthToInvZ)
 
 }  // namespace steadyxr::core

@@ -114,6 +114,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_footprint_encoded", &core::Params::steadyFootprintEncoded},
     {"steady_history_blur_per_axis", &core::Params::steadyHistoryBlurPerAxis},
     {"steady_clip_holds_current", &core::Params::steadyClipHoldsCurrent},
+    {"steady_clip_curvature", &core::Params::steadyClipCurvature},
     {"stereo_inverse_variance", &core::Params::stereoInverseVariance},
     {"stereo_tap_curvature", &core::Params::stereoTapCurvature},
 };

@@ -100,6 +100,26 @@ struct Params {
   // RMSE; 0.5 is the widest of {1, 0.75, 0.61, 0.5, 0.4} with every corpus case and every case of
   // a held-out run (other pictures, seed, size) at or below none's.
   float steadyClipGamma = 0.5f;
+  // Issue 14 round 6 (not the default): the clip box is also bounded by the 3x3's second
+  // differences, ext = min(gamma sigma, kappa (|cxx| + |cyy|)) per YCoCg channel, cxx = c(-1,0) +
+  // c(1,0) - 2c(0,0). Why: with exact reprojection of a static scene every legitimate difference
+  // between the history and the box centre is second order (Taylor per axis, a blur of variance V
+  // shifts a smooth signal by V c''/2: the area average V = 1/12, the 3x3 mean 2/3), while a lag
+  // (a moving object, parallax without depth) is first order, gradient x displacement, and so is
+  // sigma (a ramp of slope g: sigma = g sqrt(2/3)). On smooth texture the gamma sigma box admits a
+  // lag of ~0.4 px where none's own error is second order; aliased detail and noise have large
+  // second differences (noise: ~sqrt(6) sigma_noise), where the gamma sigma box stays.
+  // Measured (s6-c notes, 96 px corpus): moving object at 90 Hz 0.845 of none's RMSE against the
+  // default's 0.969 (0 cases above none against 4, worst frame 1.08x against 1.21x); corpus at
+  // 30 Hz 0.674 against 0.676; the astronaut photo +1.6 % and the noisy scene +4.8 % (a per-pixel
+  // second difference is a noisy estimate of c'': where it is small by chance the box narrows).
+  bool steadyClipCurvature = false;
+  // kappa: the largest legitimate |history - 3x3 mean| per unit |c''| per axis. The history is the
+  // area average blurred by its bilinear taps (variance V in [1/12, 1/12 + 1/4 + 1/12]: the box, one
+  // tap's f(1 - f) <= 1/4, the blur guard's accumulated 1/12 per axis); the mean is a blur of 2/3.
+  // |V - 2/3| / 2 is largest at V = 1/12: 7/24 (a blurrier history lies nearer the mean). The
+  // cross term cxy shifts neither (the box and the 3x3 are symmetric; a bilinear tap is exact on xy).
+  float steadyClipCurvatureKappa = 7.0f / 24.0f;
   // Resampling-blur guard: a bilinear history tap at sub-pixel offset (fx, fy) adds fx(1-fx) +
   // fy(1-fy) px^2 of blur variance; alpha is raised so that the steady-state blur of the history,
   // (1 - alpha) / alpha times that, stays within steadyBlurBudgetPx2 (0 = off). 1/6 = 1/12 + 1/12,
