@@ -52,7 +52,8 @@ void usage() {
                "method with the Catmull-Rom history. @blend: the far plane at the nearest depth, so\n"
                "that steady+stereo blends without depth (else it skips the pass: the disparity's\n"
                "spread exceeds a pixel); @tapcurv=0: stereo without the tap's curvature correction;\n"
-               "@curvbox: steady's clip box bounded by second differences (steadyClipCurvature).\n";
+               "@curvbox, @curvbox=0: steady's clip box bounded by second differences or not "
+               "(steadyClipCurvature).\n";
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -265,6 +266,8 @@ std::optional<Params> methodParams(const std::string& spec) {
       params->stereoTapCurvature = false;
     else if (suffix == "curvbox")  // steady's clip box bounded by second differences (Params)
       params->steadyClipCurvature = true;
+    else if (suffix == "curvbox=0")  // the default without it (round 6's cost comparison)
+      params->steadyClipCurvature = false;
     else
       return std::nullopt;
   }
