@@ -171,7 +171,7 @@ void processPixel(ivec2 p, ivec2 o) {
     vec4 hs = sampleHistoryRgba(q);  // q is clamped into the image inside
     vec3 d = toYCoCg(hs.rgb) - ymn;
     vec3 clipExt2 = P.clipGamma * P.clipGamma * yvar;
-    // Params::steadyClipCurvature (not the default): the box no wider than kappa (|cxx| + |cyy|),
+    // Params::steadyClipCurvature (the default): the box no wider than kappa (|cxx| + |cyy|),
     // the largest offset of a reprojected static history from the 3x3 mean that is second order
     // in the signal; a lag (first order) beyond it is clipped, and rejected by the clip's t^2.
     if (P.steadyClipCurvatureKappa > 0.0) {
