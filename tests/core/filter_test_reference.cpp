@@ -106,14 +106,15 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   }
   if (variant == "constant") p.steadyConfidence = false;
   if (variant == "clipholdscurrent") p.steadyClipHoldsCurrent = true;
-  if (variant == "curvbox" || variant == "curvboxjitter") p.steadyClipCurvature = true;
+  // The curvature bound is on by default: these two keep the path without it checked.
+  if (variant == "nocurvbox" || variant == "nocurvboxjitter") p.steadyClipCurvature = false;
   if (variant == "wideclip") {  // steady's clip box is its own, not taa's
     p.steadyClipGamma = 2.0f;
     p.taaClipGamma = 0.5f;
   }
   const bool withDepth = variant == "depth";
   // Jittered input: the layer's Halton(2,3) offsets, one per frame (and one frame unjittered).
-  const bool jittered = variant == "jitter" || variant == "jitterraw" || variant == "curvboxjitter";
+  const bool jittered = variant == "jitter" || variant == "jitterraw" || variant == "nocurvboxjitter";
   p.jitteredInput = jittered;
   if (variant == "jitterraw") p.steadyJitterRecentred = false;
   auto f = makeFilter("steady", p);
@@ -162,8 +163,8 @@ TEST_P(SteadyReference, MatchesCpuReference) {
 INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
                          ::testing::Values("default", "catmull", "linearfootprint", "summedblur", "sway",
                                            "swaysummed", "interpolated", "rejectnoblur", "constant", "depth",
-                                           "wideclip", "jitter", "jitterraw", "clipholdscurrent", "curvbox",
-                                           "curvboxjitter"));
+                                           "wideclip", "jitter", "jitterraw", "clipholdscurrent", "nocurvbox",
+                                           "nocurvboxjitter"));
 
 namespace {
 // Pixels of `a` farther than `tolerance` from `b` in any channel.

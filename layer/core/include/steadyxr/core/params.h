@@ -109,12 +109,12 @@ struct Params {
   // sigma (a ramp of slope g: sigma = g sqrt(2/3)). On smooth texture the gamma sigma box admits a
   // lag of ~0.4 px where none's own error is second order; aliased detail and noise have large
   // second differences (noise: ~sqrt(6) sigma_noise), where the gamma sigma box stays.
-  // Measured (s6-c notes, 96 px corpus): moving object at 90 Hz 0.845 of none's RMSE against the
-  // default's 0.969 (0 cases above none against 4, worst frame 1.08x against 1.21x); corpus at
-  // 30 Hz 0.674 against 0.676; the astronaut photo +1.6 % and the noisy scene +4.8 % (a per-pixel
-  // second difference is a noisy estimate of c'': where it is small by chance the box narrows).
-  // On because the promise (never worse than none) broke at VR app rates without it, and the
-  // 30 Hz corpus does not get worse (README, "Slow motion").
+  // Measured (README, item 6 and "Slow motion"; 96 px corpus): moving object at 90 Hz 0.845
+  // of none's RMSE against 0.969 without it (0 cases above none against 4, worst frame 1.08x
+  // against 1.21x); corpus at 30 Hz 0.674 against 0.676; the astronaut photo +1.6 % and the noisy
+  // scene +4.8 % (a per-pixel second difference is a noisy estimate of c'': where it is small by
+  // chance the box narrows). On because the promise (never worse than none) broke at VR app rates
+  // without it, and the 30 Hz corpus does not get worse.
   bool steadyClipCurvature = true;
   // kappa: the largest legitimate |history - 3x3 mean| per unit |c''| per axis. The history is the
   // area average blurred by its bilinear taps (variance V in [1/12, 1/12 + 1/4 + 1/12]: the box, one
