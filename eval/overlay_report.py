@@ -42,17 +42,23 @@ def main(argv):
     p.add_argument("dirs", nargs="+")
     p.add_argument("--check", action="append", default=[], help="methods whose promise decides the exit status")
     p.add_argument("--limit", type=float, default=1.10, help="worst frame / none's allowed (issue 14)")
+    p.add_argument("--column", default="rmse_overlay",
+                   help="overlay.csv column: rmse_overlay (the dilated mask), rmse_core (the overlay's own "
+                        "pixels), rmse_border (the one-pixel ring of world pixels around it)")
     args = p.parse_args(argv)
     rows = []
     for d in args.dirs:
         whole = read_series(f"{d}/timeseries.csv", "rmse")
-        overlay = read_series(f"{d}/overlay.csv", "rmse_overlay")
+        overlay = read_series(f"{d}/overlay.csv", args.column)
         for (case, method), frames in sorted(overlay.items()):
             if method == "none" or (case, "none") not in overlay:
                 continue
             wm, ww = ratios(whole[(case, method)], whole[(case, "none")])
             om, ow = ratios(frames, overlay[(case, "none")])
             rows.append((case, method, wm, ww, om, ow))
+    if not rows:
+        print("no head-locked case with none and another method in " + ", ".join(args.dirs))
+        return 2
     print(f"{'case':48} {'method':24} {'mean/none':>9} {'worst/none':>10} {'overlay mean/none':>17} "
           f"{'overlay worst/none':>18}")
     for case, method, wm, ww, om, ow in rows:

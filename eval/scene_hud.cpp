@@ -55,7 +55,8 @@ DrawList Scene::drawsAt(double tSec, const HeadPose& head) const {
   return d;
 }
 
-std::vector<uint8_t> overlayMask(const DepthMap& depth, const EyeCamera& cam, float splitDistanceM) {
+std::vector<uint8_t> overlayMask(const DepthMap& depth, const EyeCamera& cam, float splitDistanceM,
+                                 bool dilate) {
   const int w = depth.width, h = depth.height;
   std::vector<uint8_t> near(size_t(w) * h, 0), mask(size_t(w) * h, 0);
   for (int y = 0; y < h; ++y) {
@@ -67,6 +68,7 @@ std::vector<uint8_t> overlayMask(const DepthMap& depth, const EyeCamera& cam, fl
       near[size_t(y) * w + x] = viewZ < splitDistanceM ? 1 : 0;
     }
   }
+  if (!dilate) return near;
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       bool any = false;

@@ -34,7 +34,9 @@ std::vector<DrawQuad> hudOverlay(const TextureSet& textures, double fovTangentSc
 // Pixels covered by head-locked content in one eye's render: view-space distance nearer than
 // `splitDistanceM` (between the HUD and the picture), dilated by one pixel so that the overlay's
 // partly covered edge pixels count. Row-major, width x height.
-std::vector<uint8_t> overlayMask(const DepthMap& depth, const EyeCamera& cam, float splitDistanceM);
+// dilate = false: the near pixels alone (the overlay's core; the border is the difference).
+std::vector<uint8_t> overlayMask(const DepthMap& depth, const EyeCamera& cam, float splitDistanceM,
+                                 bool dilate = true);
 
 // RMSE of a against b over the masked pixels (all three channels); -1 when the mask is empty.
 double maskedRmse(const Image& a, const Image& b, const std::vector<uint8_t>& mask);

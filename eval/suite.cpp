@@ -299,15 +299,21 @@ int runSuite(const Options& o) {
       }
 
       // The overlay's pixels in this frame's 1-sample render (head-locked: the same every frame).
-      std::array<std::vector<uint8_t>, 2> overlay;
+      std::array<std::vector<uint8_t>, 2> overlay, overlayCore, overlayBorder;
       if (!scene.headLocked.empty()) {
         if (!overlayCsv.is_open()) {
           overlayCsv.open(o.outDir + "/overlay.csv");
-          overlayCsv << "scenario,method,frame,rmse_overlay,overlay_pixels\n";
+          overlayCsv << "scenario,method,frame,rmse_overlay,overlay_pixels,rmse_core,rmse_border\n";
         }
         // Split between the HUD and the picture (1.5 m): both scale alike under --ppd.
         const float split = float(1.25 * kHudDistanceM / ppdTangentScale(o.ppd, o.width));
-        for (int eye = 0; eye < 2; ++eye) overlay[eye] = overlayMask(base[eye].depth, cams[eye], split);
+        for (int eye = 0; eye < 2; ++eye) {
+          overlay[eye] = overlayMask(base[eye].depth, cams[eye], split);
+          overlayCore[eye] = overlayMask(base[eye].depth, cams[eye], split, false);
+          overlayBorder[eye] = overlay[eye];
+          for (size_t i = 0; i < overlayBorder[eye].size(); ++i)
+            overlayBorder[eye][i] &= uint8_t(!overlayCore[eye][i]);
+        }
       }
       std::array<RenderedView, 2> jittered;
       bool jitterRendered = false;
@@ -390,14 +396,21 @@ int runSuite(const Options& o) {
                << fmt(s.rmseDisp, 6) << '\n';
         if (!scene.headLocked.empty()) {
           // Both eyes' masks pooled: the root of the mean squared error over their pixels.
-          double sq = 0, n = 0;
-          for (int eye = 0; eye < 2; ++eye) {
-            const double r = maskedRmse(out[eye], ft.gt[eye], overlay[eye]);
-            const double px = double(std::count(overlay[eye].begin(), overlay[eye].end(), uint8_t(1)));
-            if (r >= 0) sq += r * r * px, n += px;
-          }
-          overlayCsv << csvEscape(sc.label) << ',' << v.name << ',' << f << ','
-                     << fmt(n > 0 ? std::sqrt(sq / n) : -1.0, 6) << ',' << int(n) << '\n';
+          auto pooled = [&](const std::array<std::vector<uint8_t>, 2>& masks, double* pixels) {
+            double sq = 0, n = 0;
+            for (int eye = 0; eye < 2; ++eye) {
+              const double r = maskedRmse(out[eye], ft.gt[eye], masks[eye]);
+              const double px = double(std::count(masks[eye].begin(), masks[eye].end(), uint8_t(1)));
+              if (r >= 0) sq += r * r * px, n += px;
+            }
+            if (pixels) *pixels = n;
+            return n > 0 ? std::sqrt(sq / n) : -1.0;
+          };
+          double n = 0;
+          const double all = pooled(overlay, &n);
+          overlayCsv << csvEscape(sc.label) << ',' << v.name << ',' << f << ',' << fmt(all, 6) << ','
+                     << int(n) << ',' << fmt(pooled(overlayCore, nullptr), 6) << ','
+                     << fmt(pooled(overlayBorder, nullptr), 6) << '\n';
         }
         frameOut[vi] = std::move(out);
       }
