@@ -1,7 +1,9 @@
 #include "scene_hud.h"
 
+#include "results.h"
 #include "scene.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/glm.hpp>
@@ -95,6 +97,38 @@ double maskedRmse(const Image& a, const Image& b, const std::vector<uint8_t>& ma
     n += 3;
   }
   return n == 0 ? -1.0 : std::sqrt(sum / double(n));
+}
+
+OverlayMasks overlayMasks(const std::array<const DepthMap*, 2>& depth, const std::array<EyeCamera, 2>& cams,
+                          double fovTangentScale) {
+  // Halfway-ish between the HUD (1 m) and the picture (1.5 m).
+  const float split = float(1.25 * kHudDistanceM / fovTangentScale);
+  OverlayMasks m;
+  for (int eye = 0; eye < 2; ++eye) {
+    m.all[eye] = overlayMask(*depth[eye], cams[eye], split);
+    m.core[eye] = overlayMask(*depth[eye], cams[eye], split, false);
+    m.border[eye] = m.all[eye];
+    for (size_t i = 0; i < m.border[eye].size(); ++i) m.border[eye][i] &= uint8_t(!m.core[eye][i]);
+  }
+  return m;
+}
+
+std::string overlayCsvRow(const std::array<Image, 2>& out, const std::array<Image, 2>& truth,
+                          const OverlayMasks& masks) {
+  auto pooled = [&](const std::array<std::vector<uint8_t>, 2>& mask, double* pixels) {
+    double sq = 0, n = 0;
+    for (int eye = 0; eye < 2; ++eye) {
+      const double r = maskedRmse(out[eye], truth[eye], mask[eye]);
+      const double px = double(std::count(mask[eye].begin(), mask[eye].end(), uint8_t(1)));
+      if (r >= 0) sq += r * r * px, n += px;
+    }
+    if (pixels) *pixels = n;
+    return n > 0 ? std::sqrt(sq / n) : -1.0;
+  };
+  double n = 0;
+  const double all = pooled(masks.all, &n);
+  return fmt(all, 6) + ',' + std::to_string(int(n)) + ',' + fmt(pooled(masks.core, nullptr), 6) + ',' +
+         fmt(pooled(masks.border, nullptr), 6);
 }
 
 }  // namespace steadyxr::eval

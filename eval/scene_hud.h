@@ -9,6 +9,8 @@
 #include "image.h"
 #include "renderer.h"
 
+#include <array>
+#include <string>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
@@ -40,5 +42,21 @@ std::vector<uint8_t> overlayMask(const DepthMap& depth, const EyeCamera& cam, fl
 
 // RMSE of a against b over the masked pixels (all three channels); -1 when the mask is empty.
 double maskedRmse(const Image& a, const Image& b, const std::vector<uint8_t>& mask);
+
+// Per eye: the overlay and its one-pixel ring (`all`, overlayMask dilated), the overlay's own pixels
+// (`core`) and the ring of world pixels around them (`border` = all minus core).
+struct OverlayMasks {
+  std::array<std::vector<uint8_t>, 2> all, core, border;
+};
+// fovTangentScale: --ppd's (the HUD and the picture both move 1/s further, so does the split).
+OverlayMasks overlayMasks(const std::array<const DepthMap*, 2>& depth, const std::array<EyeCamera, 2>& cams,
+                          double fovTangentScale);
+
+// overlay.csv (suite.cpp): after scenario, method and frame, the RMSE of both eyes pooled (the root
+// of the mean squared error over their masked pixels) on `all`, its pixel count, on `core`, `border`.
+inline constexpr const char* kOverlayCsvHeader =
+    "scenario,method,frame,rmse_overlay,overlay_pixels,rmse_core,rmse_border";
+std::string overlayCsvRow(const std::array<Image, 2>& out, const std::array<Image, 2>& truth,
+                          const OverlayMasks& masks);
 
 }  // namespace steadyxr::eval

@@ -299,21 +299,13 @@ int runSuite(const Options& o) {
       }
 
       // The overlay's pixels in this frame's 1-sample render (head-locked: the same every frame).
-      std::array<std::vector<uint8_t>, 2> overlay, overlayCore, overlayBorder;
+      OverlayMasks overlay;
       if (!scene.headLocked.empty()) {
         if (!overlayCsv.is_open()) {
           overlayCsv.open(o.outDir + "/overlay.csv");
-          overlayCsv << "scenario,method,frame,rmse_overlay,overlay_pixels,rmse_core,rmse_border\n";
+          overlayCsv << kOverlayCsvHeader << '\n';
         }
-        // Split between the HUD and the picture (1.5 m): both scale alike under --ppd.
-        const float split = float(1.25 * kHudDistanceM / ppdTangentScale(o.ppd, o.width));
-        for (int eye = 0; eye < 2; ++eye) {
-          overlay[eye] = overlayMask(base[eye].depth, cams[eye], split);
-          overlayCore[eye] = overlayMask(base[eye].depth, cams[eye], split, false);
-          overlayBorder[eye] = overlay[eye];
-          for (size_t i = 0; i < overlayBorder[eye].size(); ++i)
-            overlayBorder[eye][i] &= uint8_t(!overlayCore[eye][i]);
-        }
+        overlay = overlayMasks({&base[0].depth, &base[1].depth}, cams, ppdTangentScale(o.ppd, o.width));
       }
       std::array<RenderedView, 2> jittered;
       bool jitterRendered = false;
@@ -394,24 +386,9 @@ int runSuite(const Options& o) {
                << ',' << fmt(s.rmse, 6) << ',' << fmt(s.ssim, 6) << ',' << fmt(s.stereoDiff, 6) << ','
                << fmt(gtSd.meanSquared, 6) << ',' << fmt(s.stereoErr, 6) << ',' << opt(s.mtcdDisp) << ','
                << fmt(s.rmseDisp, 6) << '\n';
-        if (!scene.headLocked.empty()) {
-          // Both eyes' masks pooled: the root of the mean squared error over their pixels.
-          auto pooled = [&](const std::array<std::vector<uint8_t>, 2>& masks, double* pixels) {
-            double sq = 0, n = 0;
-            for (int eye = 0; eye < 2; ++eye) {
-              const double r = maskedRmse(out[eye], ft.gt[eye], masks[eye]);
-              const double px = double(std::count(masks[eye].begin(), masks[eye].end(), uint8_t(1)));
-              if (r >= 0) sq += r * r * px, n += px;
-            }
-            if (pixels) *pixels = n;
-            return n > 0 ? std::sqrt(sq / n) : -1.0;
-          };
-          double n = 0;
-          const double all = pooled(overlay, &n);
-          overlayCsv << csvEscape(sc.label) << ',' << v.name << ',' << f << ',' << fmt(all, 6) << ','
-                     << int(n) << ',' << fmt(pooled(overlayCore, nullptr), 6) << ','
-                     << fmt(pooled(overlayBorder, nullptr), 6) << '\n';
-        }
+        if (!scene.headLocked.empty())
+          overlayCsv << csvEscape(sc.label) << ',' << v.name << ',' << f << ','
+                     << overlayCsvRow(out, ft.gt, overlay) << '\n';
         frameOut[vi] = std::move(out);
       }
       // The default's worst frame against none's so far: keep every method's images of it (crops).
