@@ -167,8 +167,8 @@ std::vector<Scenario> corpusScenarios(const Options& o) {
         s.depthGiven = depth;
         s.startSec = start;
         s.sweeps = !o.methods.empty();  // sweeps named with --methods (ablations) run everywhere
-        s.label =
-            scene + "-" + motion + (scene == "imageviewer" ? "-" + picture : "") + (depth ? "" : "-nodepth");
+        s.label = scene + "-" + motion + (scene == "imageviewer" || scene == "hud" ? "-" + picture : "") +
+                  (depth ? "" : "-nodepth");
         if (motion == "fastturn")
           s.leadSec = kPreRollSec;  // starts at t = 0: history from a still head first
         out.push_back(s);
@@ -176,6 +176,9 @@ std::vector<Scenario> corpusScenarios(const Options& o) {
     };
     if (sceneWanted("imageviewer"))
       for (const std::string& p : pictures) add("imageviewer", p, pictureClass(p));
+    // Head-locked content (scene_hud.h): not in the corpus, only when --scenes names it.
+    if (!o.scenes.empty() && sceneWanted("hud"))
+      for (const std::string& p : pictures) add("hud", p, pictureClass(p));
     for (const char* scene : {"thin", "moving", "disocclusion"}) {
       if (!sceneWanted(scene)) continue;
       // --ppd: a scene its depth stretch would put beyond the far plane is left out (scene.h,

@@ -26,7 +26,9 @@ Renders test scenes under simulated head motion, filters them with every method 
 core, models the display stage (timewarp, seed 004 depth warping) and prints accuracy and cost.
 
   --out DIR            output folder (default out)
-  --scenes LIST        imageviewer,thin,moving,disocclusion,noisy (default: the default suite)
+  --scenes LIST        imageviewer,thin,moving,disocclusion,noisy,hud (default: the default
+                       suite); hud: the image viewer plus a head-locked reticle and text panel
+                       (per-frame RMSE on its pixels in overlay.csv, eval/overlay_report.py)
   --motions LIST       head-motion presets (steadyxr-imu-emu --list-motions; e.g. tremor-1x,
                        microsaccades,sway,pursuit-hold,pursuit-stop-pursuit,fastturn,walk,lean,
                        fixation,pursuit,sequence)
@@ -53,7 +55,8 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        class (defaults: 96x96, 48 frames placed over the preset's motion
                        changes, display = app rate, no seed 004
                        study, fewer methods; ~5 min on 2 cores); --motions, --images and
-                       --scenes (imageviewer, thin, moving, disocclusion) narrow it
+                       --scenes (imageviewer, thin, moving, disocclusion) narrow it; --scenes
+                       hud adds the head-locked overlay over every corpus picture
   --unorm              UNORM eye images and textures (filtering in encoded values) instead
                        of sRGB (linear light, the default)
   --no-mipmaps         sample textures without mipmaps (the worst case; default trilinear)

@@ -1,5 +1,7 @@
 #include "scene.h"
 
+#include "scene_hud.h"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -76,7 +78,8 @@ Rgba8 loadTextureOrFallback(const std::string& nameOrPath, const std::string& pi
 }
 
 const std::vector<std::string>& sceneNames() {
-  static const std::vector<std::string> names = {"imageviewer", "thin", "moving", "disocclusion", "noisy"};
+  static const std::vector<std::string> names = {"imageviewer",  "thin",  "moving",
+                                                 "disocclusion", "noisy", "hud"};
   return names;
 }
 
@@ -109,7 +112,7 @@ float Scene::objectSpeed(double tSec) const {
 
 bool makeScene(const std::string& name, const std::string& picture, const TextureSet& t,
                double fovTangentScale, const HeadPose& ppdStartHead, Scene* out, std::string* error) {
-  const bool imageViewer = name == "imageviewer" || name == "noisy";
+  const bool imageViewer = name == "imageviewer" || name == "noisy" || name == "hud";
   // --ppd for the scenes in metres: every model matrix goes through the depth stretch. Off (scale
   // 1) the matrices are used as they are, so every result without --ppd stays bit-identical.
   const bool stretched = fovTangentScale != 1.0 && !imageViewer;
@@ -139,6 +142,7 @@ bool makeScene(const std::string& name, const std::string& picture, const Textur
       d.noiseAmplitude = noise;
       return d;
     };
+    if (name == "hud") s.headLocked = hudOverlay(t, fovTangentScale);  // head-locked, in front
   } else if (name == "thin") {
     // A wire fence 3 m away (posts 3 cm, wires 6 mm: below a pixel) before a page of text at 5 m.
     const uint32_t text = t.find("text");

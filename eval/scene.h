@@ -31,10 +31,12 @@ inline constexpr const char* kDefaultPicturesDir = "/usr/lib/python3/dist-packag
 std::string textureKey(const std::string& nameOrPath);  // file stem
 
 struct Scene {
-  std::string name;     // "imageviewer", "thin", "moving", "disocclusion", "noisy"
+  std::string name;     // "imageviewer", "thin", "moving", "disocclusion", "noisy", "hud"
   std::string picture;  // texture key of the picture (image-viewer scenes)
   bool hasMovingObject = false;
-  DrawList drawsAt(double tSec) const;
+  DrawList drawsAt(double tSec) const;  // the world-locked draws alone
+  // The frame's draws with head-locked content (`hud`, scene_hud.h) at the render pose `head`.
+  DrawList drawsAt(double tSec, const HeadPose& head) const;
   glm::vec3 headOffset(double tSec) const;  // extra head translation (metres, world)
   // Seed 004's V = P_n - P_{n-1}: motion of the surface point p (seen at time t) over dt.
   glm::vec3 motion(const glm::vec3& p, double tSec, double dtSec) const;
@@ -44,10 +46,11 @@ struct Scene {
   std::function<DrawList(double)> draws;
   std::function<glm::vec3(double)> offset;
   std::function<glm::mat4(double)> movingModel;  // model matrix of the moving quad, if any
+  std::vector<DrawQuad> headLocked;              // quads in head space (scene_hud.h); empty: none
 };
 
 const std::vector<std::string>& sceneNames();
-// `picture` is used by the image-viewer scenes (imageviewer, noisy); textures must hold it.
+// `picture` is used by the image-viewer scenes (imageviewer, noisy, hud); textures must hold it.
 // fovTangentScale: --ppd's narrowing of the eye fov (eye_rig.h, ppdTangentScale; 1 = off). The
 // image viewer moves its picture 1/fovTangentScale times further away, so the picture covers the
 // same pixels as without --ppd; the other scenes (thin, moving, disocclusion) are stretched in depth

@@ -17,6 +17,7 @@
 #include "results.h"
 #include "scenario_list.h"
 #include "scene.h"
+#include "scene_hud.h"
 #include "targets.h"
 #include "variants.h"
 #include "warp_study.h"
@@ -147,6 +148,8 @@ int runSuite(const Options& o) {
   series << "scenario,method,frame,t_s,head_speed_deg_s,object_speed_m_s,mtcd,temporal_error,rmse,ssim,"
             "stereo_diff,"
             "stereo_diff_gt,stereo_error,mtcd_display,rmse_display\n";
+  // Head-locked content's own pixels (scene `hud`): RMSE per frame on the overlay mask (scene_hud.h).
+  std::ofstream overlayCsv;
   std::ofstream warpCsv(o.outDir + "/warp_errors.csv");
   warpCsv << "scenario,frame,step,extrapolation_ms,head_speed_deg_s,object_speed_m_s,mode,error_pixels,"
              "error_fraction\n";
@@ -241,7 +244,7 @@ int runSuite(const Options& o) {
       }
       ft.prevGt = ft.gt;
       auto drawsOf = [&](int eye) {
-        DrawList draws = scene.drawsAt(t);
+        DrawList draws = scene.drawsAt(t, head);
         draws.noiseSeed = uint32_t(f * 2 + eye + 1);
         if (o.noise > 0.0f) draws.noiseAmplitude = o.noise;
         return draws;
@@ -287,7 +290,7 @@ int runSuite(const Options& o) {
         const double td = t + k / o.displayHz;
         ft.dispCams[k] = eyeCameras(headAt(td), o.width, o.height, o.ppd);
         for (int eye = 0; eye < 2; ++eye) {
-          if (!renderer->renderGroundTruth(ft.dispCams[k][eye], scene.drawsAt(td), o.gtGrid,
+          if (!renderer->renderGroundTruth(ft.dispCams[k][eye], scene.drawsAt(td, headAt(td)), o.gtGrid,
                                            &ft.dispGt[k][eye], &error)) {
             std::cerr << "steadyxr-eval: ground truth: " << error << "\n";
             return 1;
@@ -295,6 +298,15 @@ int runSuite(const Options& o) {
         }
       }
 
+      // The overlay's pixels in this frame's 1-sample render (head-locked: the same every frame).
+      OverlayMasks overlay;
+      if (!scene.headLocked.empty()) {
+        if (!overlayCsv.is_open()) {
+          overlayCsv.open(o.outDir + "/overlay.csv");
+          overlayCsv << kOverlayCsvHeader << '\n';
+        }
+        overlay = overlayMasks({&base[0].depth, &base[1].depth}, cams, ppdTangentScale(o.ppd, o.width));
+      }
       std::array<RenderedView, 2> jittered;
       bool jitterRendered = false;
       std::array<EyeCamera, 2> jitterCams = eyeCameras(head, o.width, o.height, o.ppd, jitter);
@@ -374,6 +386,9 @@ int runSuite(const Options& o) {
                << ',' << fmt(s.rmse, 6) << ',' << fmt(s.ssim, 6) << ',' << fmt(s.stereoDiff, 6) << ','
                << fmt(gtSd.meanSquared, 6) << ',' << fmt(s.stereoErr, 6) << ',' << opt(s.mtcdDisp) << ','
                << fmt(s.rmseDisp, 6) << '\n';
+        if (!scene.headLocked.empty())
+          overlayCsv << csvEscape(sc.label) << ',' << v.name << ',' << f << ','
+                     << overlayCsvRow(out, ft.gt, overlay) << '\n';
         frameOut[vi] = std::move(out);
       }
       // The default's worst frame against none's so far: keep every method's images of it (crops).
@@ -403,8 +418,10 @@ int runSuite(const Options& o) {
 
       // Seed 004 study (left eye, the app's own image). Runs after the filters: it reuses the
       // 1-sample render target.
+      // Head-locked content is kept out of it: its motion field (Scene::motion) is the world's.
       const WarpStudyFrame studyFrame{sc.label, f, t, dt, headSpeed, objSpeed, base[0], cams[0]};
-      if (!writeWarpStudy(*renderer, scene, o, headAt, studyFrame, warpCsv, &error)) {
+      if (scene.headLocked.empty() &&
+          !writeWarpStudy(*renderer, scene, o, headAt, studyFrame, warpCsv, &error)) {
         std::cerr << "steadyxr-eval: render: " << error << "\n";
         return 1;
       }
@@ -490,7 +507,7 @@ int runSuite(const Options& o) {
   if (o.corpus) printCorpusTable(rows, std::cout);
   std::cout << "Outputs: " << o.outDir
             << "/results.csv, results.json, timeseries.csv, warp_errors.csv, crops/*.png"
-            << (o.corpus ? ", corpus.csv" : "")
+            << (o.corpus ? ", corpus.csv" : "") << (overlayCsv.is_open() ? ", overlay.csv" : "")
             << (animateLabel.empty() ? "" : ", anim/" + animateLabel + "/") << "\n";
   if (o.validation && ctx->validationMessageCount() > 0) {
     std::cerr << "steadyxr-eval: " << ctx->validationMessageCount()
