@@ -26,7 +26,8 @@ Renders test scenes under simulated head motion, filters them with every method 
 core, models the display stage (timewarp, seed 004 depth warping) and prints accuracy and cost.
 
   --out DIR            output folder (default out)
-  --scenes LIST        imageviewer,thin,moving,disocclusion,noisy (default: the default suite)
+  --scenes LIST        imageviewer,thin,moving,disocclusion,noisy (default: the default suite);
+                       content that changes in place on the image viewer: video, fade, blink
   --motions LIST       head-motion presets (steadyxr-imu-emu --list-motions; e.g. tremor-1x,
                        microsaccades,sway,pursuit-hold,pursuit-stop-pursuit,fastturn,walk,lean,
                        fixation,pursuit,sequence)
@@ -44,7 +45,7 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        the unjittered frames) and oracle+jitter (the jittered frames);
                        sweeps as <m>@key=value[@key=value] with keys
                        hmax,wmin,wlb,amin,alpha,gamma,beta,ivbeta,tapcurv,sclip,d,catmull and steady's
-                       floor,conf,reject,boxcur,curvbox,curvkappa,clip,blur,footprint,fpenc,
+                       floor,conf,reject,boxcur,curvbox,curvkappa,curvcentre,clip,blur,footprint,fpenc,
                        bluraxis,near,interp,jrecentre (jittered input), history=16|8
                        (the history's bits per channel) and dither=0|1 after history=8
                        (default: all + sweeps)

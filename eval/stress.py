@@ -45,6 +45,11 @@ PPD_CHOICES = [0.0, 14.0, 20.0]
 # thin and disocclusion are stretched in depth under --ppd and fit up to about 15 ppd at 96 px, 30
 # at 192 (README "--ppd"): allowed up to 14 ppd per 96 px.
 SCENE_WEIGHTS = {"imageviewer": 0.7, "moving": 0.1, "thin": 0.1, "disocclusion": 0.1}
+# Content that changes in place on the image viewer's screen (eval/scene_video.cpp): the drawn picture
+# is shown (and the video cuts to a built-in one). Chosen with --scenes only (the default draws stay
+# as they were for a given seed); equal weights among themselves.
+CONTENT_SCENE_WEIGHTS = {"video": 0.1, "fade": 0.1, "blink": 0.1}
+PICTURE_SCENES = ("imageviewer",) + tuple(CONTENT_SCENE_WEIGHTS)
 DEPTH_SCENES_PPD_PER_96PX = 14.0
 
 
@@ -61,7 +66,8 @@ def parse_args(argv):
     p.add_argument("--ppd", default=",".join(f"{x:g}" for x in PPD_CHOICES),
                    help="pixel densities to draw from (0: the eval's default fov)")
     p.add_argument("--no-mipmaps-fraction", type=float, default=0.3, help="share of cases with --no-mipmaps")
-    p.add_argument("--scenes", default=",".join(SCENE_WEIGHTS), help="scenes to draw from")
+    p.add_argument("--scenes", default=",".join(SCENE_WEIGHTS),
+                   help="scenes to draw from (also " + ",".join(CONTENT_SCENE_WEIGHTS) + ")")
     p.add_argument("--app-hz", default=",".join(f"{x:g}" for x in APP_HZ_CHOICES), help="app rates to draw from")
     p.add_argument("--unorm-fraction", type=float, default=0.1, help="share of cases with --unorm")
     p.add_argument("--noise-fraction", type=float, default=0.1,
@@ -79,7 +85,7 @@ def draw_case(seed, index, args):
     picture = picture_kinds[(index + seed) % len(picture_kinds)]
     motion = motion_kinds[(index // len(picture_kinds) + index + 3 * seed) % len(motion_kinds)]
     scenes = [s for s in args.scenes.split(",") if s]
-    weights = np.array([SCENE_WEIGHTS.get(s, 0.1) for s in scenes])
+    weights = np.array([SCENE_WEIGHTS.get(s, CONTENT_SCENE_WEIGHTS.get(s, 0.1)) for s in scenes])
     scene = str(rng.choice(scenes, p=weights / weights.sum()))
     resolution = int(rng.choice([int(r) for r in args.resolutions.split(",")]))
     frames = int(rng.choice([int(f) for f in args.frames.split(",")]))
@@ -188,7 +194,7 @@ def judge(case, out_dir):
 
 
 def describe_picture(case):
-    if case["scene"] != "imageviewer":
+    if case["scene"] not in PICTURE_SCENES:
         return "(the scene's own)"
     p = case["picture_params"]
     keys = [k for k in ("kind", "beta", "f", "f_max", "side_px", "glyph_px", "codes", "lines", "specks") if k in p]
@@ -247,7 +253,7 @@ def summary(cases):
 def breakdown(cases):
     """One line per drawn axis: default / none mean over the cases with each value, (cases, worst case,
     cases broken), so that a failure's axis shows (e.g. the app rate)."""
-    axes = {"scene": lambda c: c["scene"], "picture": lambda c: c["picture_kind"] if c["scene"] == "imageviewer"
+    axes = {"scene": lambda c: c["scene"], "picture": lambda c: c["picture_kind"] if c["scene"] in PICTURE_SCENES
             else None, "motion": lambda c: c["motion_kind"], "ppd": lambda c: f"{c['ppd']:g}",
             "app Hz": lambda c: f"{c['app_hz']:g}", "mipmaps": lambda c: "y" if c["mipmaps"] else "n"}
     lines = []

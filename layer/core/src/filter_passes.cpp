@@ -139,6 +139,9 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
     u.steadyHistoryBlurPerAxis = params.steadyHistoryBlurPerAxis ? 1.0f : 0.0f;
     u.steadyClipHoldsCurrent = params.steadyClipHoldsCurrent ? 1.0f : 0.0f;
     u.steadyClipCurvatureKappa = params.steadyClipCurvature ? params.steadyClipCurvatureKappa : 0.0f;
+    u.steadyClipCurvatureInner = params.steadyClipCurvature && params.steadyClipCurvatureCentred
+                                     ? params.steadyClipCurvatureInner
+                                     : 0.0f;
   }
   u.jitterPx = v.jitterPx;
   if (!std::isfinite(u.jitterPx.x) || !std::isfinite(u.jitterPx.y) || std::abs(u.jitterPx.x) > 1.0f ||

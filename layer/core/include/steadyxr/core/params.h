@@ -122,6 +122,21 @@ struct Params {
   // |V - 2/3| / 2 is largest at V = 1/12: 7/24 (a blurrier history lies nearer the mean). The
   // cross term cxy shifts neither (the box and the 3x3 are symmetric; a bilinear tap is exact on xy).
   float steadyClipCurvatureKappa = 7.0f / 24.0f;
+  // Issue 14 round 7 (not the default): the box of steadyClipCurvature made one-sided. A blur of
+  // variance V per axis shifts a smooth signal by V c''/2; the 3x3 mean by (2/3) c''/2, a static
+  // history of blur V_h by V_h c''/2, so history - mean = -(1/3 - V_h/2) c'' per axis: on one side
+  // of the mean, between inner = 1/3 - V_max/2 and kappa = 1/3 - V_min/2 times -c''. The box is
+  // that interval summed over x and y (centre -(kappa + inner)/2 (cxx + cyy), half-width
+  // (kappa - inner)/2 (|cxx| + |cyy|), 3.5x narrower than kappa's symmetric box) where it is
+  // narrower than gamma sigma, else the gamma sigma box about the mean. Why: content that changes
+  // in place (a video's slow pan or zoom, a fade; eval scenes video, fade) is a lag the symmetric
+  // box keeps (a history on the wrong side of the mean, up to 14/24 |c''| away from where a static
+  // one can be). Measured (README item 7, /work/notes/s7-v.md): at 30 Hz, 96 px, the video's worst
+  // frame 0.98x none's against 1.71x, the fade's 0.91x against 1.65x; but thin geometry +17 % RMSE
+  // (sub-pixel wires are not smooth: three samples cannot tell a wire from a parabola), so off.
+  bool steadyClipCurvatureCentred = false;
+  // inner: 1/3 - V_max/2 with V_max = 5/12, the blurriest static history (kappa's comment): 1/8.
+  float steadyClipCurvatureInner = 1.0f / 8.0f;
   // Resampling-blur guard: a bilinear history tap at sub-pixel offset (fx, fy) adds fx(1-fx) +
   // fy(1-fy) px^2 of blur variance; alpha is raised so that the steady-state blur of the history,
   // (1 - alpha) / alpha times that, stays within steadyBlurBudgetPx2 (0 = off). 1/6 = 1/12 + 1/12,
