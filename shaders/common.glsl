@@ -102,6 +102,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float stereoTapCurvature;      // stereo: 1 = the other eye's bilinear tap corrected by this eye's curvature
   float steadyClipCurvatureKappa;  // steady: > 0 = the clip box bounded by kappa (|cxx| + |cyy|); 0 = off
   float steadyClipCurvatureInner;  // steady (round 7): > 0 = the curvature box one-sided, [inner, kappa] |c''|; 0 = off
+  float steadyClipQuantSrgb;       // steady (round 7): 1 = the clip's floor half an 8-bit sRGB step at the level
 } P;
 
 vec3 sanitize(vec3 c) {

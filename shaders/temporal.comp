@@ -193,7 +193,16 @@ void processPixel(ivec2 p, ivec2 o) {
         clipExt2 = min(sigmaExt2, halfWidth * halfWidth);
       }
     }
-    clipExt2 += kQuantVar;
+    // Params::steadyClipQuantSrgb (not the default): the floor is half a step of the 8-bit sRGB
+    // input at the box mean's luma, d(linear)/d(sRGB) / 255 / 2, finer than kQuantVar in the dark.
+    if (P.steadyClipQuantSrgb > 0.5) {
+      const float level = max(ymn.x, 0.0), encoded = linearToSrgb1(level);
+      const float slope = level <= 0.0031308 ? 1.0 / 12.92 : (2.4 / 1.055) * pow((encoded + 0.055) / 1.055, 1.4);
+      const float halfStep = (0.5 / 255.0) * slope;
+      clipExt2 += halfStep * halfStep;
+    } else {
+      clipExt2 += kQuantVar;
+    }
     vec3 d = toYCoCg(hs.rgb) - boxCentre;
     // Params::steadyClipHoldsCurrent (not the default): the box reaches out, on the history's side
     // and per channel, to the current frame's own estimate of the pixel's area average (fc).

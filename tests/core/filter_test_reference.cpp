@@ -167,7 +167,8 @@ INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
                          ::testing::Values("default", "catmull", "linearfootprint", "summedblur", "sway",
                                            "swaysummed", "interpolated", "rejectnoblur", "constant", "depth",
                                            "wideclip", "jitter", "jitterraw", "clipholdscurrent", "nocurvbox",
-                                           "nocurvboxjitter", "curvcentred", "curvcentredjitter"));
+                                           "nocurvboxjitter", "curvcentred", "curvcentredjitter",
+                                           "quantsrgb"));
 
 namespace {
 // Pixels of `a` farther than `tolerance` from `b` in any channel.

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "filter_test_rig.h"
+#include "reference.h"
 
 using namespace steadyxr;
 using namespace steadyxr::core;
@@ -219,4 +220,62 @@ TEST_F(CoreTest, SteadyCentredCurvatureBoxFollowsAFade) {
     EXPECT_LT(centred, none) << "period " << periodPx << ": none " << none << ", symmetric " << symmetric
                              << ", centred " << centred;
   }
+}
+
+namespace {
+
+// Linear light of 8-bit sRGB code `code` (IEC 61966-2-1).
+double srgbDecode(int code) {
+  const double s = code / 255.0;
+  return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+}
+
+// Params::steadyClipQuantSrgb: a flat dark field (sRGB code 39, linear 0.02: the fade scene's
+// background at 15 % light) held for 16 frames, then brightening by one sRGB code a frame (the
+// start of a fade up) for 8 frames. How many codes the centre pixel's output lags behind at the
+// end, and the largest difference of any output pixel from the CPU reference (steadyRef) on the way.
+struct DarkFadeUp {
+  double lagCodes = 0.0;
+  float maxRefDiff = 0.0f;
+};
+std::optional<DarkFadeUp> darkFadeUp(bool quantSrgb) {
+  const uint32_t W = 16, H = 16;
+  Params p = steadyWithCurvatureBox(true);
+  p.steadyClipQuantSrgb = quantSrgb;
+  auto f = makeFilter("steady", p);
+  if (!f) return std::nullopt;
+  Rig rig(W, H);
+  DarkFadeUp r;
+  HostImage hist;
+  for (int k = 0; k < 24; ++k) {
+    const int code = 39 + std::max(0, k - 15);
+    const float v = float(srgbDecode(code));
+    HostImage img(W, H);
+    for (auto& px : img.px) px = glm::vec4(v, v, v, 1.0f);
+    const auto out = rig.run(*f, Frame{{img, img}, {eye(0, 0), eye(0, 0)}}, 1);
+    const HostImage want =
+        toHalf(steadyRef(p, toHalf(img), hist, k > 0, eye(0, 0), eye(0, 0), nullptr, 0.1f, 100.0f));
+    for (size_t i = 0; i < want.px.size(); ++i)
+      for (int ch = 0; ch < 3; ++ch)
+        r.maxRefDiff = std::max(r.maxRefDiff, std::abs(out[0].px[i][ch] - want.px[i][ch]));
+    hist = want;
+    r.lagCodes = (double(v) - double(out[0].at(W / 2, H / 2).g)) / (srgbDecode(code) - srgbDecode(code - 1));
+  }
+  return r;
+}
+
+}  // namespace
+
+// On a flat field the box is only its floor: half an 8-bit step in linear light is four sRGB codes
+// wide at linear 0.02, so a history a code or two behind is kept; half an sRGB code at the level
+// clips it every frame and the output follows. Both match the CPU reference written from the rule.
+TEST_F(CoreTest, SteadySrgbQuantFloorFollowsADarkFadeUp) {
+  const std::optional<DarkFadeUp> linearFloor = darkFadeUp(false), srgbFloor = darkFadeUp(true);
+  ASSERT_TRUE(linearFloor && srgbFloor) << "filter creation failed";
+  // Measured (lavapipe): 1.19 codes behind with the linear floor, 0.11 with the sRGB one.
+  EXPECT_GT(linearFloor->lagCodes, 0.8) << "the linear floor should keep the lag here";
+  EXPECT_LT(srgbFloor->lagCodes, 0.5) << "linear floor " << linearFloor->lagCodes << " codes";
+  // A code is ~1e-3 here; half precision holds ~1.5e-5 at 0.02.
+  EXPECT_LT(linearFloor->maxRefDiff, 1e-4f);
+  EXPECT_LT(srgbFloor->maxRefDiff, 1e-4f);
 }

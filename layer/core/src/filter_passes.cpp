@@ -142,6 +142,7 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
     u.steadyClipCurvatureInner = params.steadyClipCurvature && params.steadyClipCurvatureCentred
                                      ? params.steadyClipCurvatureInner
                                      : 0.0f;
+    u.steadyClipQuantSrgb = params.steadyClipQuantSrgb ? 1.0f : 0.0f;
   }
   u.jitterPx = v.jitterPx;
   if (!std::isfinite(u.jitterPx.x) || !std::isfinite(u.jitterPx.y) || std::abs(u.jitterPx.x) > 1.0f ||

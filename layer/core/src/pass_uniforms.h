@@ -71,6 +71,7 @@ struct PassUniforms {
   float steadyClipCurvatureKappa;  // steady: > 0 = the clip box bounded by kappa (|cxx| + |cyy|); 0 = off
   float steadyClipCurvatureInner;  // steady (round 7): > 0 = the curvature box one-sided, [inner, kappa]
                                    // |c''|; 0 = off
+  float steadyClipQuantSrgb;  // steady (round 7): 1 = the clip's floor half an 8-bit sRGB step at the level
 };
 
 // std140 offsets of PassParams in common.glsl: a host member moved fails here, a shader member
@@ -117,6 +118,7 @@ static_assert(offsetof(PassUniforms, steadyClipHoldsCurrent) == 484);
 static_assert(offsetof(PassUniforms, stereoTapCurvature) == 488);
 static_assert(offsetof(PassUniforms, steadyClipCurvatureKappa) == 492);
 static_assert(offsetof(PassUniforms, steadyClipCurvatureInner) == 496);
-static_assert(sizeof(PassUniforms) == 512);  // the block's 500 bytes, 16-aligned by DepthToInvZ
+static_assert(offsetof(PassUniforms, steadyClipQuantSrgb) == 500);
+static_assert(sizeof(PassUniforms) == 512);  // the block's 504 bytes, 16-aligned by DepthToInvZ
 
 }  // namespace steadyxr::core
