@@ -45,7 +45,7 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        the unjittered frames) and oracle+jitter (the jittered frames);
                        sweeps as <m>@key=value[@key=value] with keys
                        hmax,wmin,wlb,amin,alpha,gamma,beta,ivbeta,tapcurv,sclip,d,catmull and steady's
-                       floor,conf,reject,boxcur,curvbox,curvkappa,curvcentre,quantsrgb,clip,blur,footprint,fpenc,
+                       floor,conf,reject,boxcur,curvbox,curvkappa,curvcentre,curvinner,quantsrgb,clip,blur,footprint,fpenc,
                        bluraxis,near,interp,jrecentre (jittered input), history=16|8
                        (the history's bits per channel) and dither=0|1 after history=8
                        (default: all + sweeps)
