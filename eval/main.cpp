@@ -45,8 +45,9 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        the unjittered frames) and oracle+jitter (the jittered frames);
                        sweeps as <m>@key=value[@key=value] with keys
                        hmax,wmin,wlb,amin,alpha,gamma,beta,ivbeta,tapcurv,sclip,d,catmull and steady's
-                       floor,conf,reject,boxcur,curvbox,curvkappa,curvcentre,curvinner,quantsrgb,clip,blur,footprint,fpenc,
-                       bluraxis,near,interp,jrecentre (jittered input), history=16|8
+                       floor,conf,reject,boxcur,curvbox,curvkappa,clip,blur,footprint,fpenc,
+                       bluraxis,near,interp,jrecentre (jittered input), curvcentre,
+                       curvinner,quantsrgb (round 7: content changes), history=16|8
                        (the history's bits per channel) and dither=0|1 after history=8
                        (default: all + sweeps)
   --corpus             every motion preset over the corpus pictures and scenes, translating
