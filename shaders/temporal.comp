@@ -184,7 +184,7 @@ void processPixel(ivec2 p, ivec2 o) {
       // -s c'' from the 3x3 mean, s in [inner, kappa]: on one side. The box is that interval
       // (centre -(kappa + inner)/2 c'', half-width (kappa - inner)/2 |c''|) where it is narrower
       // than gamma sigma; elsewhere the gamma sigma box about the mean.
-      if (P.steadyClipCurvatureInner > 0.0) {
+      if ((kSteadyBoxSwitches & 1) != 0) {
         const float kappa = P.steadyClipCurvatureKappa, inner = P.steadyClipCurvatureInner;
         const vec3 halfWidth = 0.5 * (kappa - inner) * (abs(cxx) + abs(cyy));
         const vec3 sigmaExt2 = P.clipGamma * P.clipGamma * yvar;
@@ -195,7 +195,7 @@ void processPixel(ivec2 p, ivec2 o) {
     }
     // Params::steadyClipQuantSrgb (not the default): the floor is half a step of the 8-bit sRGB
     // input at the box mean's luma, d(linear)/d(sRGB) / 255 / 2, finer than kQuantVar in the dark.
-    if (P.steadyClipQuantSrgb > 0.5) {
+    if ((kSteadyBoxSwitches & 2) != 0) {
       const float level = max(ymn.x, 0.0), encoded = linearToSrgb1(level);
       const float slope = level <= 0.0031308 ? 1.0 / 12.92 : (2.4 / 1.055) * pow((encoded + 0.055) / 1.055, 1.4);
       const float halfStep = (0.5 / 255.0) * slope;

@@ -69,9 +69,7 @@ struct PassUniforms {
   float steadyClipHoldsCurrent;    // steady: 1 = the clip box reaches out to the current estimate fc
   float stereoTapCurvature;  // stereo: 1 = the other eye's bilinear tap corrected by this eye's curvature
   float steadyClipCurvatureKappa;  // steady: > 0 = the clip box bounded by kappa (|cxx| + |cyy|); 0 = off
-  float steadyClipCurvatureInner;  // steady (round 7): > 0 = the curvature box one-sided, [inner, kappa]
-                                   // |c''|; 0 = off
-  float steadyClipQuantSrgb;  // steady (round 7): 1 = the clip's floor half an 8-bit sRGB step at the level
+  float steadyClipCurvatureInner;  // steady (round 7): the one-sided curvature box's inner bound (spec bit0)
 };
 
 // std140 offsets of PassParams in common.glsl: a host member moved fails here, a shader member
@@ -118,7 +116,6 @@ static_assert(offsetof(PassUniforms, steadyClipHoldsCurrent) == 484);
 static_assert(offsetof(PassUniforms, stereoTapCurvature) == 488);
 static_assert(offsetof(PassUniforms, steadyClipCurvatureKappa) == 492);
 static_assert(offsetof(PassUniforms, steadyClipCurvatureInner) == 496);
-static_assert(offsetof(PassUniforms, steadyClipQuantSrgb) == 500);
-static_assert(sizeof(PassUniforms) == 512);  // the block's 504 bytes, 16-aligned by DepthToInvZ
+static_assert(sizeof(PassUniforms) == 512);  // the block's 500 bytes, 16-aligned by DepthToInvZ
 
 }  // namespace steadyxr::core
