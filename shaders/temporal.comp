@@ -196,8 +196,9 @@ void processPixel(ivec2 p, ivec2 o) {
     // Params::steadyClipQuantSrgb (not the default): the floor is half a step of the 8-bit sRGB
     // input at the box mean's luma, d(linear)/d(sRGB) / 255 / 2, finer than kQuantVar in the dark.
     if ((kSteadyBoxSwitches & 2) != 0) {
-      const float level = max(ymn.x, 0.0), encoded = linearToSrgb1(level);
-      const float slope = level <= 0.0031308 ? 1.0 / 12.92 : (2.4 / 1.055) * pow((encoded + 0.055) / 1.055, 1.4);
+      // ((s + 0.055) / 1.055)^1.4 with s the level encoded is level^(1.4 / 2.4): one pow, not two.
+      const float level = max(ymn.x, 0.0);
+      const float slope = level <= 0.0031308 ? 1.0 / 12.92 : (2.4 / 1.055) * pow(level, 7.0 / 12.0);
       const float halfStep = (0.5 / 255.0) * slope;
       clipExt2 += halfStep * halfStep;
     } else {
