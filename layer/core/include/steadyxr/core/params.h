@@ -130,10 +130,12 @@ struct Params {
   // (kappa - inner)/2 (|cxx| + |cyy|), 3.5x narrower than kappa's symmetric box) where it is
   // narrower than gamma sigma, else the gamma sigma box about the mean. Why: content that changes
   // in place (a video's slow pan or zoom, a fade; eval scenes video, fade) is a lag the symmetric
-  // box keeps (a history on the wrong side of the mean, up to 14/24 |c''| away from where a static
-  // one can be). Measured (README item 7, /work/notes/s7-v.md): at 30 Hz, 96 px, the video's worst
-  // frame 0.98x none's against 1.71x, the fade's 0.91x against 1.65x; but thin geometry +17 % RMSE
-  // (sub-pixel wires are not smooth: three samples cannot tell a wire from a parabola), so off.
+  // box keeps (a history on the wrong side of the mean, up to 10/24 |c''| beyond where a static
+  // one can be). Measured (README item 7; 96 px): on the video, fade and blink scenes (270 cases,
+  // 30/72/90 Hz, 0/20 ppd) with steadyClipQuantSrgb 0 cases above none and 2 frames above 1.10x
+  // against the default's 16 and 92; but the 30 Hz corpus 0.704 of none's RMSE against 0.674, thin
+  // geometry +15 % (sub-pixel wires are not smooth: three samples cannot tell a wire from a
+  // parabola), so off.
   bool steadyClipCurvatureCentred = false;
   // inner: 1/3 - V_max/2 with V_max = 5/12, the blurriest static history (kappa's comment): 1/8.
   float steadyClipCurvatureInner = 1.0f / 8.0f;
@@ -142,7 +144,8 @@ struct Params {
   // encoded = 2.4/1.055 ((s + 0.055)/1.055)^1.4, 1/12.92 near black), not half a step in linear
   // light: at a linear level of 0.02 an sRGB step is 0.24/255, so the linear floor admits a lag of
   // four input steps where the light changes (the start of a fade up from 15 %: 1.71x none's at
-  // 90 Hz on the astronaut). On UNORM input (filtered in encoded values) it is narrower than a step
+  // 90 Hz on the astronaut; the fade scene's 270 cases with steadyClipCurvatureCentred: README item 8).
+  // Costs one pow per pixel (3.59x the copy with both switches, 3.35x without it). On UNORM input (filtered in encoded values) it is narrower than a step
   // in the dark: more clips, towards the current frame.
   bool steadyClipQuantSrgb = false;
   // Resampling-blur guard: a bilinear history tap at sub-pixel offset (fx, fy) adds fx(1-fx) +
