@@ -145,8 +145,9 @@ struct Params {
   // light: at a linear level of 0.02 an sRGB step is 0.24/255, so the linear floor admits a lag of
   // four input steps where the light changes (the start of a fade up from 15 %: 1.71x none's at
   // 90 Hz on the astronaut; the fade scene's 270 cases with steadyClipCurvatureCentred: README item 8).
-  // Costs one pow per pixel (3.59x the copy with both switches, 3.35x without it). On UNORM input (filtered in encoded values) it is narrower than a step
-  // in the dark: more clips, towards the current frame.
+  // Costs one pow per pixel (3.59x the copy with both switches, 3.35x without it). On UNORM input
+  // (filtered in encoded values) it is narrower than a step in the dark: more clips, towards the
+  // current frame.
   bool steadyClipQuantSrgb = false;
   // Resampling-blur guard: a bilinear history tap at sub-pixel offset (fx, fy) adds fx(1-fx) +
   // fy(1-fy) px^2 of blur variance; alpha is raised so that the steady-state blur of the history,
