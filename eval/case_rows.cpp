@@ -6,6 +6,7 @@
 
 #include "steadyxr/core/params.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -26,14 +27,27 @@ std::vector<int> motionChangeFrames(const Scenario& sc, const imu::MotionStream&
   return changes;
 }
 
+void addContentChangeFrames(const Scene& scene, double firstFrameSec, double dt, int frames,
+                            std::vector<int>* changes) {
+  if (!scene.contentChanges) return;
+  const double lastSec = firstFrameSec + (frames - 1) * dt;
+  for (double tc : scene.contentChanges(firstFrameSec, lastSec)) {
+    const int k = int(std::ceil((tc - firstFrameSec) / dt - 1e-9));
+    if (k >= 0 && k < frames) changes->push_back(k);
+  }
+  std::sort(changes->begin(), changes->end());
+  changes->erase(std::unique(changes->begin(), changes->end()), changes->end());
+}
+
 ResultRow resultRow(const Scenario& sc, const Variant& v, const Accum& a, const Accum* none,
                     const CaseFacts& facts) {
   ResultRow r;
   r.scenario = sc.label;
   r.scene = sc.scene;
   r.motion = sc.trace ? std::filesystem::path(sc.motion).stem().string() : sc.motion;
-  r.picture =
-      (sc.scene == "imageviewer" || sc.scene == "noisy" || sc.scene == "hud") ? textureKey(sc.picture) : "";
+  r.picture = (sc.scene == "imageviewer" || sc.scene == "noisy" || sc.scene == "hud" || isContentScene(sc.scene))
+                  ? textureKey(sc.picture)
+                  : "";
   r.motionClass = sc.motionClass;
   r.pictureClass = sc.pictureClass;
   r.method = v.name;

@@ -13,9 +13,11 @@
 
 namespace steadyxr::eval {
 
+struct Scene;
+
 struct CaseFacts {
   double gtStereo = 0;             // the ground truth's mean stereo difference over the case
-  std::vector<int> motionChanges;  // frames at which the head motion changes
+  std::vector<int> motionChanges;  // frames at which the head motion (or a scene's content) changes
   double headSpeedP95 = 0;         // deg/s
   bool staticScene = true;         // no moving object
   bool cpuDevice = false;          // the device is a CPU (lavapipe): cost is wall time
@@ -27,6 +29,12 @@ struct CaseFacts {
 std::vector<int> motionChangeFrames(const Scenario& sc, const imu::MotionStream& stream,
                                     const std::vector<double>& headSpeeds, double firstFrameSec, double dt,
                                     int frames);
+
+// Adds to `changes` (kept sorted, no repeats) the frames at or after each in-place content change of
+// the scene (Scene::contentChanges: a cut, a fade's ends, a light switching): recovery counts from
+// those too.
+void addContentChangeFrames(const Scene& scene, double firstFrameSec, double dt, int frames,
+                            std::vector<int>* changes);
 
 // The row of method `v` in case `sc`; `none` is the unfiltered method's sums (ghosting is measured
 // against it), nullptr when the run has no "none".

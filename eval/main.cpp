@@ -26,8 +26,9 @@ Renders test scenes under simulated head motion, filters them with every method 
 core, models the display stage (timewarp, seed 004 depth warping) and prints accuracy and cost.
 
   --out DIR            output folder (default out)
-  --scenes LIST        imageviewer,thin,moving,disocclusion,noisy,hud (default: the default
-                       suite); hud: the image viewer plus a head-locked reticle and text panel
+  --scenes LIST        imageviewer,thin,moving,disocclusion,noisy (default: the default suite);
+                       content that changes in place on the image viewer: video, fade, blink;
+                       hud: the image viewer plus a head-locked reticle and text panel
                        (per-frame RMSE on its pixels in overlay.csv, eval/overlay_report.py)
   --motions LIST       head-motion presets (steadyxr-imu-emu --list-motions; e.g. tremor-1x,
                        microsaccades,sway,pursuit-hold,pursuit-stop-pursuit,fastturn,walk,lean,
@@ -47,7 +48,8 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        sweeps as <m>@key=value[@key=value] with keys
                        hmax,wmin,wlb,amin,alpha,gamma,beta,ivbeta,tapcurv,sclip,d,catmull and steady's
                        floor,conf,reject,boxcur,curvbox,curvkappa,clip,blur,footprint,fpenc,
-                       bluraxis,near,interp,jrecentre (jittered input), history=16|8
+                       bluraxis,near,interp,jrecentre (jittered input), curvcentre,
+                       curvinner,quantsrgb (round 7: content changes), history=16|8
                        (the history's bits per channel) and dither=0|1 after history=8
                        (default: all + sweeps)
   --corpus             every motion preset over the corpus pictures and scenes, translating

@@ -78,8 +78,8 @@ Rgba8 loadTextureOrFallback(const std::string& nameOrPath, const std::string& pi
 }
 
 const std::vector<std::string>& sceneNames() {
-  static const std::vector<std::string> names = {"imageviewer",  "thin",  "moving",
-                                                 "disocclusion", "noisy", "hud"};
+  static const std::vector<std::string> names = {"imageviewer", "thin",  "moving", "disocclusion", "noisy",
+                                                 "hud",         "video", "fade",   "blink"};
   return names;
 }
 
@@ -112,7 +112,7 @@ float Scene::objectSpeed(double tSec) const {
 
 bool makeScene(const std::string& name, const std::string& picture, const TextureSet& t,
                double fovTangentScale, const HeadPose& ppdStartHead, Scene* out, std::string* error) {
-  const bool imageViewer = name == "imageviewer" || name == "noisy" || name == "hud";
+  const bool imageViewer = name == "imageviewer" || name == "noisy" || name == "hud" || isContentScene(name);
   // --ppd for the scenes in metres: every model matrix goes through the depth stretch. Off (scale
   // 1) the matrices are used as they are, so every result without --ppd stays bit-identical.
   const bool stretched = fovTangentScale != 1.0 && !imageViewer;
@@ -134,14 +134,16 @@ bool makeScene(const std::string& name, const std::string& picture, const Textur
     // Seed 003's own experiment: a picture on a plane in front of the user.
     s.picture = textureKey(picture);
     const DrawQuad plane = picturePlane(t, pic, float(1.0 / fovTangentScale));
+    if (isContentScene(name)) makeContentScene(name, t, pic, plane, float(1.0 / fovTangentScale), &s);
     const float noise = name == "noisy" ? 0.08f : 0.0f;
-    s.draws = [plane, noise](double) {
-      DrawList d;
-      d.clearColor = glm::vec3(0.15f);
-      d.quads = {plane};
-      d.noiseAmplitude = noise;
-      return d;
-    };
+    if (!s.draws)
+      s.draws = [plane, noise](double) {
+        DrawList d;
+        d.clearColor = glm::vec3(0.15f);
+        d.quads = {plane};
+        d.noiseAmplitude = noise;
+        return d;
+      };
     if (name == "hud") s.headLocked = hudOverlay(t, fovTangentScale);  // head-locked, in front
   } else if (name == "thin") {
     // A wire fence 3 m away (posts 3 cm, wires 6 mm: below a pixel) before a page of text at 5 m.

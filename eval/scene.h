@@ -8,6 +8,7 @@
 #include "renderer.h"
 #include "warp.h"
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -31,7 +32,8 @@ inline constexpr const char* kDefaultPicturesDir = "/usr/lib/python3/dist-packag
 std::string textureKey(const std::string& nameOrPath);  // file stem
 
 struct Scene {
-  std::string name;     // "imageviewer", "thin", "moving", "disocclusion", "noisy", "hud"
+  std::string name;     // "imageviewer", "thin", "moving", "disocclusion", "noisy", "hud", "video", "fade",
+                        // "blink"
   std::string picture;  // texture key of the picture (image-viewer scenes)
   bool hasMovingObject = false;
   DrawList drawsAt(double tSec) const;  // the world-locked draws alone
@@ -47,7 +49,22 @@ struct Scene {
   std::function<glm::vec3(double)> offset;
   std::function<glm::mat4(double)> movingModel;  // model matrix of the moving quad, if any
   std::vector<DrawQuad> headLocked;              // quads in head space (scene_hud.h); empty: none
+  // Content scenes (video, fade, blink): the times in [t0, t1] where the content changes in place
+  // (a cut, a fade's start or end, a flash, a light switching); empty for the others.
+  std::function<std::vector<double>(double, double)> contentChanges;
 };
+
+// Scenes whose content changes over time on the image viewer's screen (scene_video.cpp):
+// "video" (24 fps content, a Ken Burns zoom and a fast pan, a cut every 0.5 s to another picture),
+// "fade" (the whole view's light fades down and up, then a flash), "blink" (a small light at 2 Hz).
+bool isContentScene(const std::string& name);
+// The video's content rate and its content frame at app time t: the draws change only between frames.
+inline constexpr double kVideoContentHz = 24.0;
+int64_t videoContentFrame(double tSec);
+// Fills s->draws and s->contentChanges of content scene `name` around the image viewer's `plane`
+// (picture `picture`, at distanceScale times its 1.5 m).
+void makeContentScene(const std::string& name, const TextureSet& t, uint32_t picture, const DrawQuad& plane,
+                      float distanceScale, Scene* s);
 
 const std::vector<std::string>& sceneNames();
 // `picture` is used by the image-viewer scenes (imageviewer, noisy, hud); textures must hold it.

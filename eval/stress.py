@@ -46,11 +46,14 @@ PPD_CHOICES = [0.0, 14.0, 20.0]
 # thin and disocclusion are stretched in depth under --ppd and fit up to about 15 ppd at 96 px, 30
 # at 192 (README "--ppd"): allowed up to 14 ppd per 96 px.
 SCENE_WEIGHTS = {"imageviewer": 0.7, "moving": 0.1, "thin": 0.1, "disocclusion": 0.1}
-# Only when --scenes names it (the default draws stay those of earlier rounds): the image viewer with
-# head-locked content (eval/scene_hud.h), the drawn picture behind it; judged on the whole image as the
-# others, with the overlay's own pixels and the world ring around them reported beside (overlay.csv).
-OPT_IN_SCENE_WEIGHTS = {"hud": 0.7}
-PICTURED_SCENES = ("imageviewer", "hud")
+# Only when --scenes names them (the default draws stay those of earlier rounds for every seed):
+# - hud: the image viewer with head-locked content (eval/scene_hud.h), the drawn picture behind it; judged
+#   on the whole image as the others, with the overlay's own pixels and the world ring around them
+#   reported beside (overlay.csv);
+# - content that changes in place on the image viewer's screen (eval/scene_video.cpp): video, fade, blink;
+#   the drawn picture is shown (and the video cuts to a built-in one); equal weights among themselves.
+OPT_IN_SCENE_WEIGHTS = {"hud": 0.7, "video": 0.1, "fade": 0.1, "blink": 0.1}
+PICTURED_SCENES = ("imageviewer",) + tuple(OPT_IN_SCENE_WEIGHTS)
 DEPTH_SCENES_PPD_PER_96PX = 14.0
 
 
@@ -67,7 +70,8 @@ def parse_args(argv):
     p.add_argument("--ppd", default=",".join(f"{x:g}" for x in PPD_CHOICES),
                    help="pixel densities to draw from (0: the eval's default fov)")
     p.add_argument("--no-mipmaps-fraction", type=float, default=0.3, help="share of cases with --no-mipmaps")
-    p.add_argument("--scenes", default=",".join(SCENE_WEIGHTS), help="scenes to draw from")
+    p.add_argument("--scenes", default=",".join(SCENE_WEIGHTS),
+                   help="scenes to draw from (also " + ",".join(OPT_IN_SCENE_WEIGHTS) + ")")
     p.add_argument("--app-hz", default=",".join(f"{x:g}" for x in APP_HZ_CHOICES), help="app rates to draw from")
     p.add_argument("--unorm-fraction", type=float, default=0.1, help="share of cases with --unorm")
     p.add_argument("--noise-fraction", type=float, default=0.1,

@@ -445,8 +445,10 @@ int runSuite(const Options& o) {
     }
 
     // Rows of this scenario.
+    std::vector<int> changes = motionChangeFrames(sc, *stream, headSpeeds, start - sc.leadSec, dt, o.frames);
+    addContentChangeFrames(scene, start - sc.leadSec, dt, o.frames, &changes);  // video, fade, blink
     const CaseFacts facts{safeDiv(gtStereoSum, gtStereoN),
-                          motionChangeFrames(sc, *stream, headSpeeds, start - sc.leadSec, dt, o.frames),
+                          changes,
                           percentile(headSpeeds, 0.95),
                           !scene.hasMovingObject,
                           ctx->isCpuDevice(),

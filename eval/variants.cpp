@@ -131,6 +131,12 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyClipHoldsCurrent = value != 0.0f;
     else if (key == "curvbox")
       params->steadyClipCurvature = value != 0.0f;
+    else if (key == "curvcentre")  // round 7, with curvbox=1: the curvature box one-sided
+      params->steadyClipCurvatureCentred = value != 0.0f;
+    else if (key == "curvinner")  // with curvcentre=1: the interval's inner bound (0 < inner < kappa)
+      params->steadyClipCurvatureInner = value;
+    else if (key == "quantsrgb")  // round 7: the clip's floor half an sRGB step at the level
+      params->steadyClipQuantSrgb = value != 0.0f;
     else if (key == "curvkappa")  // with curvbox=1
       params->steadyClipCurvatureKappa = value;
     else if (key == "blur")

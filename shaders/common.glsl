@@ -32,6 +32,9 @@ layout(constant_id = 10) const bool kBlocked = true;     // temporal/stereo: 4x4
 // Catmull-Rom history sampling: its five taps decoded in line took llvmpipe twice as long to
 // compile, dead code included).
 layout(constant_id = 13) const int kHistoryEncoding = 0;
+// Steady's round-7 clip-box switches: bit0 the one-sided curvature box
+// (Params::steadyClipCurvatureCentred), bit1 the sRGB quantisation floor (Params::steadyClipQuantSrgb).
+layout(constant_id = 14) const int kSteadyBoxSwitches = 0;
 
 layout(set = 0, binding = 0) uniform sampler2D uSrc0;    // current colour / this eye
 layout(set = 0, binding = 1) uniform sampler2D uSrc1;    // history / other eye
@@ -101,6 +104,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float steadyClipHoldsCurrent;  // steady: 1 = the clip box reaches out to the current estimate fc
   float stereoTapCurvature;      // stereo: 1 = the other eye's bilinear tap corrected by this eye's curvature
   float steadyClipCurvatureKappa;  // steady: > 0 = the clip box bounded by kappa (|cxx| + |cyy|); 0 = off
+  float steadyClipCurvatureInner;  // steady (round 7): the one-sided curvature box's inner bound (spec bit0)
 } P;
 
 vec3 sanitize(vec3 c) {

@@ -169,7 +169,7 @@ void processPixel(ivec2 p, ivec2 o) {
     float iz;
     const bool confirmed = reproject(P.reproj[0], pc, invZ, q, iz) && historyValid;
     vec4 hs = sampleHistoryRgba(q);  // q is clamped into the image inside
-    vec3 d = toYCoCg(hs.rgb) - ymn;
+    vec3 boxCentre = ymn;
     vec3 clipExt2 = P.clipGamma * P.clipGamma * yvar;
     // Params::steadyClipCurvature (the default): the box no wider than kappa (|cxx| + |cyy|),
     // the largest offset of a reprojected static history from the 3x3 mean that is second order
@@ -180,15 +180,38 @@ void processPixel(ivec2 p, ivec2 o) {
       const vec3 cyy = toYCoCg(blockAt(o, 0, -1) + blockAt(o, 0, 1) - centre2);
       const vec3 curvExt = P.steadyClipCurvatureKappa * (abs(cxx) + abs(cyy));
       clipExt2 = min(clipExt2, curvExt * curvExt);
+      // Params::steadyClipCurvatureCentred (not the default): per axis a static history lies
+      // -s c'' from the 3x3 mean, s in [inner, kappa]: on one side. The box is that interval
+      // (centre -(kappa + inner)/2 c'', half-width (kappa - inner)/2 |c''|) where it is narrower
+      // than gamma sigma; elsewhere the gamma sigma box about the mean.
+      if ((kSteadyBoxSwitches & 1) != 0) {
+        const float kappa = P.steadyClipCurvatureKappa, inner = P.steadyClipCurvatureInner;
+        const vec3 halfWidth = 0.5 * (kappa - inner) * (abs(cxx) + abs(cyy));
+        const vec3 sigmaExt2 = P.clipGamma * P.clipGamma * yvar;
+        const vec3 curvNarrower = step(halfWidth * halfWidth, sigmaExt2);  // 1 where the interval is
+        boxCentre = ymn - curvNarrower * (0.5 * (kappa + inner)) * (cxx + cyy);
+        clipExt2 = min(sigmaExt2, halfWidth * halfWidth);
+      }
     }
-    clipExt2 += kQuantVar;
+    // Params::steadyClipQuantSrgb (not the default): the floor is half a step of the 8-bit sRGB
+    // input at the box mean's luma, d(linear)/d(sRGB) / 255 / 2, finer than kQuantVar in the dark.
+    if ((kSteadyBoxSwitches & 2) != 0) {
+      // ((s + 0.055) / 1.055)^1.4 with s the level encoded is level^(1.4 / 2.4): one pow, not two.
+      const float level = max(ymn.x, 0.0);
+      const float slope = level <= 0.0031308 ? 1.0 / 12.92 : (2.4 / 1.055) * pow(level, 7.0 / 12.0);
+      const float halfStep = (0.5 / 255.0) * slope;
+      clipExt2 += halfStep * halfStep;
+    } else {
+      clipExt2 += kQuantVar;
+    }
+    vec3 d = toYCoCg(hs.rgb) - boxCentre;
     // Params::steadyClipHoldsCurrent (not the default): the box reaches out, on the history's side
     // and per channel, to the current frame's own estimate of the pixel's area average (fc).
-    vec3 toCur = toYCoCg(fc) - ymn;
+    vec3 toCur = toYCoCg(fc) - boxCentre;
     clipExt2 = max(clipExt2, step(vec3(0.0), d * toCur) * toCur * toCur * P.steadyClipHoldsCurrent);
     vec3 t2v = d * d / clipExt2;
     float t2 = max(t2v.x, max(t2v.y, t2v.z));
-    vec3 h = t2 > 1.0 ? ymn + d * inversesqrt(t2) : ymn + d;
+    vec3 h = t2 > 1.0 ? boxCentre + d * inversesqrt(t2) : boxCentre + d;
     const float cap = 1.0 / P.steadyAlphaFloor;
     float n = confirmed ? clamp(kHistoryEncoding != 0 ? hs.a * cap : hs.a, 0.0, cap) : 0.0;  // storeHistory
     n *= t2 > 1.0 ? mix(1.0, 1.0 / t2, P.steadyClipRejects) : 1.0;

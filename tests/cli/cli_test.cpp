@@ -302,6 +302,8 @@ TEST_F(Cli, EverythingItWritesTheLayerAccepts) {
                                                    {"steady_history_blur_per_axis", "off"},
                                                    {"steady_clip_holds_current", "on"},
                                                    {"steady_clip_curvature", "on"},
+                                                   {"steady_clip_curvature_centred", "on"},
+                                                   {"steady_clip_quant_srgb", "on"},
                                                    {"stereo_inverse_variance", "off"},
                                                    {"stereo_tap_curvature", "off"},
                                                    {"stereo_clip_gamma_after_steady", "2"}};

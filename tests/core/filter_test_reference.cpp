@@ -108,13 +108,16 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   if (variant == "clipholdscurrent") p.steadyClipHoldsCurrent = true;
   // The curvature bound is on by default: these two keep the path without it checked.
   if (variant == "nocurvbox" || variant == "nocurvboxjitter") p.steadyClipCurvature = false;
+  // Round 7: the one-sided curvature box (not the default).
+  if (variant == "curvcentred" || variant == "curvcentredjitter") p.steadyClipCurvatureCentred = true;
   if (variant == "wideclip") {  // steady's clip box is its own, not taa's
     p.steadyClipGamma = 2.0f;
     p.taaClipGamma = 0.5f;
   }
   const bool withDepth = variant == "depth";
   // Jittered input: the layer's Halton(2,3) offsets, one per frame (and one frame unjittered).
-  const bool jittered = variant == "jitter" || variant == "jitterraw" || variant == "nocurvboxjitter";
+  const bool jittered = variant == "jitter" || variant == "jitterraw" || variant == "nocurvboxjitter" ||
+                        variant == "curvcentredjitter";
   p.jitteredInput = jittered;
   if (variant == "jitterraw") p.steadyJitterRecentred = false;
   auto f = makeFilter("steady", p);
@@ -164,7 +167,8 @@ INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
                          ::testing::Values("default", "catmull", "linearfootprint", "summedblur", "sway",
                                            "swaysummed", "interpolated", "rejectnoblur", "constant", "depth",
                                            "wideclip", "jitter", "jitterraw", "clipholdscurrent", "nocurvbox",
-                                           "nocurvboxjitter"));
+                                           "nocurvboxjitter", "curvcentred", "curvcentredjitter",
+                                           "quantsrgb"));
 
 namespace {
 // Pixels of `a` farther than `tolerance` from `b` in any channel.

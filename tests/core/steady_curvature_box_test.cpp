@@ -9,6 +9,7 @@
 #include <random>
 
 #include "filter_test_rig.h"
+#include "reference.h"
 
 using namespace steadyxr;
 using namespace steadyxr::core;
@@ -161,4 +162,120 @@ TEST_F(CoreTest, SteadyCurvatureBoxKeepsAccumulationOnAliasedDetail) {
   // Measured (lavapipe): none 0.286, steady 0.1531, with the curvature box 0.1533.
   EXPECT_LT(curvature, 1.05 * steady)
       << "none " << none << ", steady " << steady << ", curvature " << curvature;
+}
+
+namespace {
+
+// Params::steadyClipCurvatureCentred: the default's curvature box, or the one-sided one.
+Params steadyWithCentredBox(bool centred) {
+  Params p = steadyWithCurvatureBox(true);
+  p.steadyClipCurvatureCentred = centred;
+  return p;
+}
+
+// A fade (eval scene "fade") under a still head: the smooth picture of period `periodPx` times a
+// light that ramps from 1 to 0.3 over frames 16..40. RMSE against the pixel-area average (8 x 8
+// samples) over the ramp's frames, for `method` ("none": the render itself).
+std::optional<double> rmseDuringFade(const std::string& method, bool centred, float periodPx) {
+  const uint32_t W = 48, H = 32;
+  auto f = makeFilter(method, steadyWithCentredBox(centred));
+  if (!f) return std::nullopt;
+  Rig rig(W, H);
+  auto picture = [periodPx](float x, float y) {
+    return smoothPicture(x * 24.0f / periodPx, y, 0.0f);  // the sinusoid's period set to periodPx
+  };
+  double sum = 0.0;
+  for (int k = 0; k < 40; ++k) {
+    const float light = k < 16 ? 1.0f : 1.0f - 0.7f * float(k - 16) / 24.0f;
+    HostImage img(W, H), truth(W, H);
+    for (uint32_t y = 0; y < H; ++y)
+      for (uint32_t x = 0; x < W; ++x) {
+        img.at(x, y) = glm::vec4(light * picture(x + 0.5f, y + 0.5f), 1.0f);
+        glm::vec3 area(0.0f);
+        for (int s = 0; s < 64; ++s)
+          area += picture(float(x) + (float(s % 8) + 0.5f) / 8.0f, float(y) + (float(s / 8) + 0.5f) / 8.0f);
+        truth.at(x, y) = glm::vec4(light * area / 64.0f, 1.0f);
+      }
+    const auto out = rig.run(*f, Frame{{img, img}, {eye(0, 0), eye(0, 0)}}, 1);
+    if (k > 16) sum += rmse(out[0], truth) / 23.0;
+  }
+  return sum;
+}
+
+}  // namespace
+
+// A fade moves every pixel's value by a little each frame: the default's symmetric box holds a
+// history that lags it (too bright) on the side of the mean a static history never is; the
+// one-sided box clips it and the output follows the light.
+TEST_F(CoreTest, SteadyCentredCurvatureBoxFollowsAFade) {
+  for (float periodPx : {4.0f, 8.0f}) {
+    const std::optional<double> noneOrNot = rmseDuringFade("none", false, periodPx);
+    const std::optional<double> symmetricOrNot = rmseDuringFade("steady", false, periodPx);
+    const std::optional<double> centredOrNot = rmseDuringFade("steady", true, periodPx);
+    ASSERT_TRUE(noneOrNot && symmetricOrNot && centredOrNot) << "filter creation failed";
+    const double none = *noneOrNot, symmetric = *symmetricOrNot, centred = *centredOrNot;
+    // Measured (lavapipe): period 4 px none 0.0121, symmetric 0.0254, centred 0.0084; period 8 px
+    // none 0.0031, symmetric 0.0071, centred 0.0021.
+    EXPECT_GT(symmetric, 1.5 * none) << "the default's box should lag here (the case this switch is for)";
+    EXPECT_LT(centred, none) << "period " << periodPx << ": none " << none << ", symmetric " << symmetric
+                             << ", centred " << centred;
+  }
+}
+
+namespace {
+
+// Linear light of 8-bit sRGB code `code` (IEC 61966-2-1).
+double srgbDecode(int code) {
+  const double s = code / 255.0;
+  return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+}
+
+// Params::steadyClipQuantSrgb: a flat dark field (sRGB code 39, linear 0.02: the fade scene's
+// background at 15 % light) held for 16 frames, then brightening by one sRGB code a frame (the
+// start of a fade up) for 8 frames. How many codes the centre pixel's output lags behind at the
+// end, and the largest difference of any output pixel from the CPU reference (steadyRef) on the way.
+struct DarkFadeUp {
+  double lagCodes = 0.0;
+  float maxRefDiff = 0.0f;
+};
+std::optional<DarkFadeUp> darkFadeUp(bool quantSrgb) {
+  const uint32_t W = 16, H = 16;
+  Params p = steadyWithCurvatureBox(true);
+  p.steadyClipQuantSrgb = quantSrgb;
+  auto f = makeFilter("steady", p);
+  if (!f) return std::nullopt;
+  Rig rig(W, H);
+  DarkFadeUp r;
+  HostImage hist;
+  for (int k = 0; k < 24; ++k) {
+    const int code = 39 + std::max(0, k - 15);
+    const float v = float(srgbDecode(code));
+    HostImage img(W, H);
+    for (auto& px : img.px) px = glm::vec4(v, v, v, 1.0f);
+    const auto out = rig.run(*f, Frame{{img, img}, {eye(0, 0), eye(0, 0)}}, 1);
+    const HostImage want =
+        toHalf(steadyRef(p, toHalf(img), hist, k > 0, eye(0, 0), eye(0, 0), nullptr, 0.1f, 100.0f));
+    for (size_t i = 0; i < want.px.size(); ++i)
+      for (int ch = 0; ch < 3; ++ch)
+        r.maxRefDiff = std::max(r.maxRefDiff, std::abs(out[0].px[i][ch] - want.px[i][ch]));
+    hist = want;
+    r.lagCodes = (double(v) - double(out[0].at(W / 2, H / 2).g)) / (srgbDecode(code) - srgbDecode(code - 1));
+  }
+  return r;
+}
+
+}  // namespace
+
+// On a flat field the box is only its floor: half an 8-bit step in linear light is four sRGB codes
+// wide at linear 0.02, so a history a code or two behind is kept; half an sRGB code at the level
+// clips it every frame and the output follows. Both match the CPU reference written from the rule.
+TEST_F(CoreTest, SteadySrgbQuantFloorFollowsADarkFadeUp) {
+  const std::optional<DarkFadeUp> linearFloor = darkFadeUp(false), srgbFloor = darkFadeUp(true);
+  ASSERT_TRUE(linearFloor && srgbFloor) << "filter creation failed";
+  // Measured (lavapipe): 1.19 codes behind with the linear floor, 0.11 with the sRGB one.
+  EXPECT_GT(linearFloor->lagCodes, 0.8) << "the linear floor should keep the lag here";
+  EXPECT_LT(srgbFloor->lagCodes, 0.5) << "linear floor " << linearFloor->lagCodes << " codes";
+  // A code is ~1e-3 here; half precision holds ~1.5e-5 at 0.02.
+  EXPECT_LT(linearFloor->maxRefDiff, 1e-4f);
+  EXPECT_LT(srgbFloor->maxRefDiff, 1e-4f);
 }

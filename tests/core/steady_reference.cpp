@@ -48,6 +48,17 @@ glm::vec3 momentWeights(const float x[3], float m2) {
   return w;
 }
 
+// Half a step of 8-bit sRGB at linear level `linear`, squared: 0.5/255 times d linear / d encoded of
+// the IEC 61966-2-1 decode, linear = ((s + 0.055) / 1.055)^2.4 above s = 0.04045, s / 12.92 below.
+float srgbHalfStepVar(float linear) {
+  const float l = std::max(linear, 0.0f);
+  const float s = l <= 0.0031308f ? 12.92f * l : 1.055f * std::pow(l, 1.0f / 2.4f) - 0.055f;
+  const float dLinearDs =
+      s <= 0.04045f ? 1.0f / 12.92f : 2.4f / 1.055f * std::pow((s + 0.055f) / 1.055f, 1.4f);
+  const float halfStep = 0.5f / 255.0f * dLinearDs;
+  return halfStep * halfStep;
+}
+
 }  // namespace
 
 HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage& hist, bool histValid,
@@ -130,19 +141,37 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
         const vec3 cxx = at(-1, 0) - 2.0f * at(0, 0) + at(1, 0);
         const vec3 cyy = at(0, -1) - 2.0f * at(0, 0) + at(0, 1);
         float t = 0.0f;
+        vec3 centre = mean;  // the box's centre
         for (int ch = 0; ch < 3; ++ch) {
-          float boxVar = p.steadyClipGamma * p.steadyClipGamma * var[ch];
+          const float sigmaVar = p.steadyClipGamma * p.steadyClipGamma * var[ch];
+          float boxVar = sigmaVar;
           if (p.steadyClipCurvature) {
             const float secondOrder = p.steadyClipCurvatureKappa * (std::abs(cxx[ch]) + std::abs(cyy[ch]));
             boxVar = std::min(boxVar, secondOrder * secondOrder);
+            if (p.steadyClipCurvatureCentred) {
+              // A static history blurred by V per axis lies (V/2 - 1/3) c'' from the 3x3 mean, with
+              // 1/3 - V/2 between inner and kappa: per axis the interval between -kappa c'' and
+              // -inner c'', summed over x and y. It is the box where it is narrower than gamma sigma.
+              float lo = 0.0f, hi = 0.0f;
+              for (const float c : {cxx[ch], cyy[ch]}) {
+                lo += std::min(-p.steadyClipCurvatureKappa * c, -p.steadyClipCurvatureInner * c);
+                hi += std::max(-p.steadyClipCurvatureKappa * c, -p.steadyClipCurvatureInner * c);
+              }
+              const float halfWidth = 0.5f * (hi - lo);
+              boxVar = sigmaVar;
+              if (halfWidth * halfWidth <= sigmaVar) {
+                centre[ch] = mean[ch] + 0.5f * (lo + hi);
+                boxVar = halfWidth * halfWidth;
+              }
+            }
           }
-          float box = std::sqrt(boxVar + quantVar);
-          const bool currentOnHistorySide = (h[ch] - mean[ch]) * (areaY[ch] - mean[ch]) >= 0.0f;
+          float box = std::sqrt(boxVar + (p.steadyClipQuantSrgb ? srgbHalfStepVar(mean.x) : quantVar));
+          const bool currentOnHistorySide = (h[ch] - centre[ch]) * (areaY[ch] - centre[ch]) >= 0.0f;
           if (p.steadyClipHoldsCurrent && currentOnHistorySide)
-            box = std::max(box, std::abs(areaY[ch] - mean[ch]));
-          t = std::max(t, std::abs(h[ch] - mean[ch]) / box);
+            box = std::max(box, std::abs(areaY[ch] - centre[ch]));
+          t = std::max(t, std::abs(h[ch] - centre[ch]) / box);
         }
-        const vec3 clipped = t > 1.0f ? mean + (h - mean) / t : h;
+        const vec3 clipped = t > 1.0f ? centre + (h - centre) / t : h;
         float n = std::clamp(countAt(hist, q, catmull), 0.0f, maxCount);
         if (t > 1.0f && p.steadyClipRejects) n /= t * t;
         float alpha = std::max(1.0f / (n + 1.0f), p.steadyAlphaFloor);

@@ -139,6 +139,9 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
     u.steadyHistoryBlurPerAxis = params.steadyHistoryBlurPerAxis ? 1.0f : 0.0f;
     u.steadyClipHoldsCurrent = params.steadyClipHoldsCurrent ? 1.0f : 0.0f;
     u.steadyClipCurvatureKappa = params.steadyClipCurvature ? params.steadyClipCurvatureKappa : 0.0f;
+    u.steadyClipCurvatureInner = params.steadyClipCurvature && params.steadyClipCurvatureCentred
+                                     ? params.steadyClipCurvatureInner
+                                     : 0.0f;
   }
   u.jitterPx = v.jitterPx;
   if (!std::isfinite(u.jitterPx.x) || !std::isfinite(u.jitterPx.y) || std::abs(u.jitterPx.x) > 1.0f ||
@@ -208,20 +211,16 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
   const bool writeOut = sw.writeOutput;
   const bool jittered =
       params.jitteredInput || d.uniforms.jitterPx.x != 0.0f || d.uniforms.jitterPx.y != 0.0f;
-  return {temporal ? sw.mode : 0,
-          temporal ? std::max(sw.sampleCount, 1) : 1,
-          writeOut ? 1 : 0,
-          sw.writeHistory ? 1 : 0,
-          writeOut && sw.encodeSrgb ? 1 : 0,
-          writeOut && sw.swapRedBlue ? 1 : 0,
-          sw.depthBits,
-          (d.io.src0.clean ? 1 : 0) | (d.io.src1.clean ? 2 : 0),
-          temporal && jittered ? 1 : 0,
-          temporal && params.historyFilter == HistoryFilter::CatmullRom ? 1 : 0,
-          blocked ? 1 : 0,
-          static_cast<int32_t>(groupX),
-          static_cast<int32_t>(groupY),
-          sw.historyEncoding};
+  return {temporal ? sw.mode : 0, temporal ? std::max(sw.sampleCount, 1) : 1, writeOut ? 1 : 0,
+          sw.writeHistory ? 1 : 0, writeOut && sw.encodeSrgb ? 1 : 0, writeOut && sw.swapRedBlue ? 1 : 0,
+          sw.depthBits, (d.io.src0.clean ? 1 : 0) | (d.io.src1.clean ? 2 : 0), temporal && jittered ? 1 : 0,
+          temporal && params.historyFilter == HistoryFilter::CatmullRom ? 1 : 0, blocked ? 1 : 0,
+          static_cast<int32_t>(groupX), static_cast<int32_t>(groupY), sw.historyEncoding,
+          // Round 7's clip-box switches, compiled in only where on (lavapipe runs the default's
+          // pipeline ~20 % slower with them behind uniform branches).
+          temporal ? (params.steadyClipCurvature && params.steadyClipCurvatureCentred ? 1 : 0) |
+                         (params.steadyClipQuantSrgb ? 2 : 0)
+                   : 0};
 }
 
 }  // namespace steadyxr::core::detail

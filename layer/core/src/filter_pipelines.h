@@ -18,8 +18,8 @@ enum class Pass : uint32_t { Copy, Temporal, Stereo, Fxaa, Count };
 // The storage format the pass writes its output in (each shader comes in both variants).
 enum OutFmt : uint32_t { kOut8 = 0, kOut16 = 1 };
 
-// The specialisation constants 0-13 of common.glsl, in constant_id order (passSpecKey builds it).
-using SpecKey = std::array<int32_t, 14>;
+// The specialisation constants 0-14 of common.glsl, in constant_id order (passSpecKey builds it).
+using SpecKey = std::array<int32_t, 15>;
 
 struct CompiledPipeline {
   VkPipeline pipeline = VK_NULL_HANDLE;

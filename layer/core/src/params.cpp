@@ -99,6 +99,8 @@ std::string validate(const Params& p, Params* sanitized) {
         &Params::steadyAlphaFloor);
   check(positive(p.steadyClipGamma), "steadyClipGamma", &Params::steadyClipGamma);
   check(positive(p.steadyClipCurvatureKappa), "steadyClipCurvatureKappa", &Params::steadyClipCurvatureKappa);
+  check(positive(p.steadyClipCurvatureInner) && p.steadyClipCurvatureInner < out.steadyClipCurvatureKappa,
+        "steadyClipCurvatureInner", &Params::steadyClipCurvatureInner);
   check(finite(p.steadyFootprint) && p.steadyFootprint >= 0.0f && p.steadyFootprint <= 0.25f,
         "steadyFootprint", &Params::steadyFootprint);
   check(positive(p.steadyNearestDepthM) || p.steadyNearestDepthM == INFINITY, "steadyNearestDepthM",

@@ -122,6 +122,33 @@ struct Params {
   // |V - 2/3| / 2 is largest at V = 1/12: 7/24 (a blurrier history lies nearer the mean). The
   // cross term cxy shifts neither (the box and the 3x3 are symmetric; a bilinear tap is exact on xy).
   float steadyClipCurvatureKappa = 7.0f / 24.0f;
+  // Issue 14 round 7 (not the default): the box of steadyClipCurvature made one-sided. A blur of
+  // variance V per axis shifts a smooth signal by V c''/2; the 3x3 mean by (2/3) c''/2, a static
+  // history of blur V_h by V_h c''/2, so history - mean = -(1/3 - V_h/2) c'' per axis: on one side
+  // of the mean, between inner = 1/3 - V_max/2 and kappa = 1/3 - V_min/2 times -c''. The box is
+  // that interval summed over x and y (centre -(kappa + inner)/2 (cxx + cyy), half-width
+  // (kappa - inner)/2 (|cxx| + |cyy|), 3.5x narrower than kappa's symmetric box) where it is
+  // narrower than gamma sigma, else the gamma sigma box about the mean. Why: content that changes
+  // in place (a video's slow pan or zoom, a fade; eval scenes video, fade) is a lag the symmetric
+  // box keeps (a history on the wrong side of the mean, up to 10/24 |c''| beyond where a static
+  // one can be). Measured (README item 7; 96 px): on the video, fade and blink scenes (270 cases,
+  // 30/72/90 Hz, 0/20 ppd) with steadyClipQuantSrgb 0 cases above none and 2 frames above 1.10x
+  // against the default's 16 and 92; but the 30 Hz corpus 0.704 of none's RMSE against 0.674, thin
+  // geometry +15 % (sub-pixel wires are not smooth: three samples cannot tell a wire from a
+  // parabola), so off.
+  bool steadyClipCurvatureCentred = false;
+  // inner: 1/3 - V_max/2 with V_max = 5/12, the blurriest static history (kappa's comment): 1/8.
+  float steadyClipCurvatureInner = 1.0f / 8.0f;
+  // Issue 14 round 7 (not the default): the clip box's floor (a flat 3x3 has sigma = 0 and c'' = 0)
+  // is half a step of the 8-bit sRGB input at the box mean's luma (IEC 61966-2-1: d linear / d
+  // encoded = 2.4/1.055 ((s + 0.055)/1.055)^1.4, 1/12.92 near black), not half a step in linear
+  // light: at a linear level of 0.02 an sRGB step is 0.24/255, so the linear floor admits a lag of
+  // four input steps where the light changes (the start of a fade up from 15 %: 1.71x none's at
+  // 90 Hz on the astronaut; the fade scene's 270 cases with steadyClipCurvatureCentred: README item 8).
+  // Costs one pow per pixel (3.59x the copy with both switches, 3.35x without it). On UNORM input
+  // (filtered in encoded values) it is narrower than a step in the dark: more clips, towards the
+  // current frame.
+  bool steadyClipQuantSrgb = false;
   // Resampling-blur guard: a bilinear history tap at sub-pixel offset (fx, fy) adds fx(1-fx) +
   // fy(1-fy) px^2 of blur variance; alpha is raised so that the steady-state blur of the history,
   // (1 - alpha) / alpha times that, stays within steadyBlurBudgetPx2 (0 = off). 1/6 = 1/12 + 1/12,
