@@ -108,8 +108,8 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   if (variant == "clipholdscurrent") p.steadyClipHoldsCurrent = true;
   // The curvature bound is on by default: these two keep the path without it checked.
   if (variant == "nocurvbox" || variant == "nocurvboxjitter") p.steadyClipCurvature = false;
-  // Round 7: the one-sided curvature box (not the default).
-  if (variant == "curvcentred" || variant == "curvcentredjitter") p.steadyClipCurvatureCentred = true;
+  // Round 7: the one-sided curvature box is the default; these two keep the symmetric box checked.
+  if (variant == "nocurvcentred" || variant == "nocurvcentredjitter") p.steadyClipCurvatureCentred = false;
   if (variant == "wideclip") {  // steady's clip box is its own, not taa's
     p.steadyClipGamma = 2.0f;
     p.taaClipGamma = 0.5f;
@@ -117,9 +117,15 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   const bool withDepth = variant == "depth";
   // Jittered input: the layer's Halton(2,3) offsets, one per frame (and one frame unjittered).
   const bool jittered = variant == "jitter" || variant == "jitterraw" || variant == "nocurvboxjitter" ||
-                        variant == "curvcentredjitter";
+                        variant == "nocurvcentredjitter";
   p.jitteredInput = jittered;
-  if (variant == "jitterraw") p.steadyJitterRecentred = false;
+  // The raw jittered sample (Karis 2014, not recentred): its 3x3 is not about the pixel centre, so
+  // the one-sided box, whose interval is about the centre, discards the history there; the
+  // variant checks the raw path with round 6's symmetric box.
+  if (variant == "jitterraw") {
+    p.steadyJitterRecentred = false;
+    p.steadyClipCurvatureCentred = false;
+  }
   auto f = makeFilter("steady", p);
   ASSERT_TRUE(f);
   Rig rig(W, H);
@@ -167,7 +173,7 @@ INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
                          ::testing::Values("default", "catmull", "linearfootprint", "summedblur", "sway",
                                            "swaysummed", "interpolated", "rejectnoblur", "constant", "depth",
                                            "wideclip", "jitter", "jitterraw", "clipholdscurrent", "nocurvbox",
-                                           "nocurvboxjitter", "curvcentred", "curvcentredjitter",
+                                           "nocurvboxjitter", "nocurvcentred", "nocurvcentredjitter",
                                            "quantsrgb"));
 
 namespace {

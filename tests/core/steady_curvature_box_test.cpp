@@ -19,9 +19,12 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 
-Params steadyWithCurvatureBox(bool on) {
+// The curvature box on or off; `centred`: round 7's one-sided box (the default) or round 6's
+// symmetric one.
+Params steadyWithCurvatureBox(bool on, bool centred = false) {
   Params p = *applyMethodName("steady");
   p.steadyClipCurvature = on;
+  p.steadyClipCurvatureCentred = centred;
   return p;
 }
 
@@ -113,9 +116,9 @@ double rmse(const HostImage& a, const HostImage& b) {
 // Sub-pixel yaw/pitch tremor (uniform, +-0.4 px at the centre) over a static aliased checkerboard:
 // RMSE against the pixel-area average over the last 16 of 40 frames, for `method` with the box
 // on or off ("none": the render itself).
-std::optional<double> rmseUnderTremor(const std::string& method, bool curvatureBox) {
+std::optional<double> rmseUnderTremor(const std::string& method, bool curvatureBox, bool centred = false) {
   const uint32_t W = 48, H = 48;
-  auto f = makeFilter(method, steadyWithCurvatureBox(curvatureBox));
+  auto f = makeFilter(method, steadyWithCurvatureBox(curvatureBox, centred));
   if (!f) return std::nullopt;
   Rig rig(W, H);
   std::mt19937 rng(7);                                    // the same tremor for every method
@@ -156,12 +159,17 @@ TEST_F(CoreTest, SteadyCurvatureBoxKeepsAccumulationOnAliasedDetail) {
   const std::optional<double> noneOrNot = rmseUnderTremor("none", false);
   const std::optional<double> steadyOrNot = rmseUnderTremor("steady", false);
   const std::optional<double> curvatureOrNot = rmseUnderTremor("steady", true);
-  ASSERT_TRUE(noneOrNot && steadyOrNot && curvatureOrNot) << "filter creation failed";
+  const std::optional<double> oneSidedOrNot = rmseUnderTremor("steady", true, true);
+  ASSERT_TRUE(noneOrNot && steadyOrNot && curvatureOrNot && oneSidedOrNot) << "filter creation failed";
   const double none = *noneOrNot, steady = *steadyOrNot, curvature = *curvatureOrNot;
   EXPECT_LT(steady, 0.8 * none) << "steady should accumulate here";
   // Measured (lavapipe): none 0.286, steady 0.1531, with the curvature box 0.1533.
   EXPECT_LT(curvature, 1.05 * steady)
       << "none " << none << ", steady " << steady << ", curvature " << curvature;
+  // Round 7's one-sided box (the default) pays on aliased detail, which is not smooth over three
+  // samples (README item 7): measured 0.1774, 1.16x the symmetric box's 0.1533 (none 0.286). It
+  // must still accumulate, and cost no more than that.
+  EXPECT_LT(*oneSidedOrNot, 1.2 * curvature) << "one-sided " << *oneSidedOrNot << ", symmetric " << curvature;
 }
 
 namespace {

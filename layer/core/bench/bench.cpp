@@ -53,7 +53,7 @@ void usage() {
                "that steady+stereo blends without depth (else it skips the pass: the disparity's\n"
                "spread exceeds a pixel); @tapcurv=0: stereo without the tap's curvature correction;\n"
                "@curvbox, @curvbox=0: steady's clip box bounded by second differences or not "
-               "(steadyClipCurvature); @curvcentre, @quantsrgb: round 7's one-sided curvature box and\n"
+               "(steadyClipCurvature); @curvcentre, @curvcentre=0, @quantsrgb: round 7's one-sided curvature box (or not) and\n"
                "sRGB quantisation floor (steadyClipCurvatureCentred, steadyClipQuantSrgb).\n";
 }
 
@@ -269,8 +269,10 @@ std::optional<Params> methodParams(const std::string& spec) {
       params->steadyClipCurvature = true;
     else if (suffix == "curvbox=0")  // the default without it (round 6's cost comparison)
       params->steadyClipCurvature = false;
-    else if (suffix == "curvcentre")  // round 7: the curvature box one-sided (Params)
+    else if (suffix == "curvcentre")  // round 7: the curvature box one-sided (Params; the default)
       params->steadyClipCurvatureCentred = true;
+    else if (suffix == "curvcentre=0")  // the default without it (round 6's box)
+      params->steadyClipCurvatureCentred = false;
     else if (suffix == "quantsrgb")  // round 7: the clip's floor half an sRGB step (Params)
       params->steadyClipQuantSrgb = true;
     else

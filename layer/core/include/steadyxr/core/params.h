@@ -122,7 +122,7 @@ struct Params {
   // |V - 2/3| / 2 is largest at V = 1/12: 7/24 (a blurrier history lies nearer the mean). The
   // cross term cxy shifts neither (the box and the 3x3 are symmetric; a bilinear tap is exact on xy).
   float steadyClipCurvatureKappa = 7.0f / 24.0f;
-  // Issue 14 round 7 (not the default): the box of steadyClipCurvature made one-sided. A blur of
+  // Issue 14 round 7 (the default): the box of steadyClipCurvature made one-sided. A blur of
   // variance V per axis shifts a smooth signal by V c''/2; the 3x3 mean by (2/3) c''/2, a static
   // history of blur V_h by V_h c''/2, so history - mean = -(1/3 - V_h/2) c'' per axis: on one side
   // of the mean, between inner = 1/3 - V_max/2 and kappa = 1/3 - V_min/2 times -c''. The box is
@@ -131,12 +131,10 @@ struct Params {
   // narrower than gamma sigma, else the gamma sigma box about the mean. Why: content that changes
   // in place (a video's slow pan or zoom, a fade; eval scenes video, fade) is a lag the symmetric
   // box keeps (a history on the wrong side of the mean, up to 10/24 |c''| beyond where a static
-  // one can be). Measured (README item 7; 96 px): on the video, fade and blink scenes (270 cases,
-  // 30/72/90 Hz, 0/20 ppd) with steadyClipQuantSrgb 0 cases above none and 2 frames above 1.10x
-  // against the default's 16 and 92; but the 30 Hz corpus 0.704 of none's RMSE against 0.674, thin
-  // geometry +15 % (sub-pixel wires are not smooth: three samples cannot tell a wire from a
-  // parabola), so off.
-  bool steadyClipCurvatureCentred = false;
+  // one can be): with the symmetric box the video at the corpus's density is above none in 5 of 15
+  // cases. What it costs: accuracy on detail that is not smooth over three samples (sub-pixel
+  // wires, 1-px lines, small text: three samples cannot tell a wire from a parabola). README item 7.
+  bool steadyClipCurvatureCentred = true;
   // inner: 1/3 - V_max/2 with V_max = 5/12, the blurriest static history (kappa's comment): 1/8.
   float steadyClipCurvatureInner = 1.0f / 8.0f;
   // Issue 14 round 7 (not the default): the clip box's floor (a flat 3x3 has sigma = 0 and c'' = 0)
