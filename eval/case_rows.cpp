@@ -45,9 +45,7 @@ ResultRow resultRow(const Scenario& sc, const Variant& v, const Accum& a, const 
   r.scenario = sc.label;
   r.scene = sc.scene;
   r.motion = sc.trace ? std::filesystem::path(sc.motion).stem().string() : sc.motion;
-  r.picture = (sc.scene == "imageviewer" || sc.scene == "noisy" || sc.scene == "hud" || isContentScene(sc.scene))
-                  ? textureKey(sc.picture)
-                  : "";
+  r.picture = isPictureScene(sc.scene) ? textureKey(sc.picture) : "";
   r.motionClass = sc.motionClass;
   r.pictureClass = sc.pictureClass;
   r.method = v.name;

@@ -28,13 +28,10 @@ std::vector<Scenario> buildScenarios(const Options& o, std::string* error) {
     s.trace = trace;
     s.picture = picture;
     s.motionClass = trace ? "trace" : motionClassOf(motion);
-    s.pictureClass = scene == "imageviewer" || scene == "noisy" || scene == "hud" || isContentScene(scene)
-                         ? pictureClass(textureKey(picture))
-                         : "scene:" + scene;
+    s.pictureClass = isPictureScene(scene) ? pictureClass(textureKey(picture)) : "scene:" + scene;
     const std::string motionLabel = trace ? std::filesystem::path(motion).stem().string() : motion;
     s.label = scene + "-" + motionLabel;
-    if (scene == "imageviewer" || scene == "noisy" || scene == "hud" || isContentScene(scene))
-      s.label += "-" + textureKey(picture);
+    if (isPictureScene(scene)) s.label += "-" + textureKey(picture);
     // The fast turn starts at once: give the filters history from a still head first.
     if (!trace && motion == "fastturn") s.leadSec = 0.5;
     out.push_back(s);
@@ -73,7 +70,7 @@ std::vector<Scenario> buildScenarios(const Options& o, std::string* error) {
   if (motions.empty()) motions.emplace_back("fixation", false);
   for (const std::string& sc : scenes) {
     for (const auto& [m, trace] : motions) {
-      if (sc == "imageviewer" || sc == "noisy" || sc == "hud" || isContentScene(sc)) {
+      if (isPictureScene(sc)) {
         for (const std::string& img : (o.images.empty() ? std::vector<std::string>{images[0]} : images)) {
           add(sc, m, trace, img);
         }

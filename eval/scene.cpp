@@ -83,6 +83,10 @@ const std::vector<std::string>& sceneNames() {
   return names;
 }
 
+bool isPictureScene(const std::string& name) {
+  return name == "imageviewer" || name == "noisy" || name == "hud" || isContentScene(name);
+}
+
 DrawList Scene::drawsAt(double tSec) const {
   return draws(tSec);
 }
@@ -112,7 +116,7 @@ float Scene::objectSpeed(double tSec) const {
 
 bool makeScene(const std::string& name, const std::string& picture, const TextureSet& t,
                double fovTangentScale, const HeadPose& ppdStartHead, Scene* out, std::string* error) {
-  const bool imageViewer = name == "imageviewer" || name == "noisy" || name == "hud" || isContentScene(name);
+  const bool imageViewer = isPictureScene(name);
   // --ppd for the scenes in metres: every model matrix goes through the depth stretch. Off (scale
   // 1) the matrices are used as they are, so every result without --ppd stays bit-identical.
   const bool stretched = fovTangentScale != 1.0 && !imageViewer;

@@ -58,6 +58,9 @@ struct Scene {
 // "video" (24 fps content, a Ken Burns zoom and a fast pan, a cut every 0.5 s to another picture),
 // "fade" (the whole view's light fades down and up, then a flash), "blink" (a small light at 2 Hz).
 bool isContentScene(const std::string& name);
+// The scenes built on the image viewer, which show the `--images` picture: imageviewer, noisy, hud
+// and the content scenes (the others have their own geometry and textures).
+bool isPictureScene(const std::string& name);
 // The video's content rate and its content frame at app time t: the draws change only between frames.
 inline constexpr double kVideoContentHz = 24.0;
 int64_t videoContentFrame(double tSec);
