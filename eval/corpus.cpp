@@ -167,8 +167,8 @@ std::vector<Scenario> corpusScenarios(const Options& o) {
         s.depthGiven = depth;
         s.startSec = start;
         s.sweeps = !o.methods.empty();  // sweeps named with --methods (ablations) run everywhere
-        s.label = scene + "-" + motion + (scene == "imageviewer" || scene == "hud" ? "-" + picture : "") +
-                  (depth ? "" : "-nodepth");
+        s.label =
+            scene + "-" + motion + (isPictureScene(scene) ? "-" + picture : "") + (depth ? "" : "-nodepth");
         if (motion == "fastturn")
           s.leadSec = kPreRollSec;  // starts at t = 0: history from a still head first
         out.push_back(s);

@@ -70,7 +70,7 @@ void makeContentScene(const std::string& name, const TextureSet& t, uint32_t pic
                       float distanceScale, Scene* s);
 
 const std::vector<std::string>& sceneNames();
-// `picture` is used by the image-viewer scenes (imageviewer, noisy, hud); textures must hold it.
+// `picture` is used by the picture scenes (isPictureScene); textures must hold it.
 // fovTangentScale: --ppd's narrowing of the eye fov (eye_rig.h, ppdTangentScale; 1 = off). The
 // image viewer moves its picture 1/fovTangentScale times further away, so the picture covers the
 // same pixels as without --ppd; the other scenes (thin, moving, disocclusion) are stretched in depth

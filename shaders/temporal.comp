@@ -178,19 +178,20 @@ void processPixel(ivec2 p, ivec2 o) {
       const vec3 centre2 = 2.0 * blockAt(o, 0, 0);
       const vec3 cxx = toYCoCg(blockAt(o, -1, 0) + blockAt(o, 1, 0) - centre2);
       const vec3 cyy = toYCoCg(blockAt(o, 0, -1) + blockAt(o, 0, 1) - centre2);
-      const vec3 curvExt = P.steadyClipCurvatureKappa * (abs(cxx) + abs(cyy));
-      clipExt2 = min(clipExt2, curvExt * curvExt);
-      // Params::steadyClipCurvatureCentred (not the default): per axis a static history lies
+      const vec3 curvSum = abs(cxx) + abs(cyy);
+      // Params::steadyClipCurvatureCentred (the default): per axis a static history lies
       // -s c'' from the 3x3 mean, s in [inner, kappa]: on one side. The box is that interval
       // (centre -(kappa + inner)/2 c'', half-width (kappa - inner)/2 |c''|) where it is narrower
       // than gamma sigma; elsewhere the gamma sigma box about the mean.
       if ((kSteadyBoxSwitches & 1) != 0) {
         const float kappa = P.steadyClipCurvatureKappa, inner = P.steadyClipCurvatureInner;
-        const vec3 halfWidth = 0.5 * (kappa - inner) * (abs(cxx) + abs(cyy));
-        const vec3 sigmaExt2 = P.clipGamma * P.clipGamma * yvar;
-        const vec3 curvNarrower = step(halfWidth * halfWidth, sigmaExt2);  // 1 where the interval is
+        const vec3 halfWidth = 0.5 * (kappa - inner) * curvSum;
+        const vec3 curvNarrower = step(halfWidth * halfWidth, clipExt2);  // 1 where the interval is
         boxCentre = ymn - curvNarrower * (0.5 * (kappa + inner)) * (cxx + cyy);
-        clipExt2 = min(sigmaExt2, halfWidth * halfWidth);
+        clipExt2 = min(clipExt2, halfWidth * halfWidth);
+      } else {  // round 6's box, symmetric about the mean
+        const vec3 curvExt = P.steadyClipCurvatureKappa * curvSum;
+        clipExt2 = min(clipExt2, curvExt * curvExt);
       }
     }
     // Params::steadyClipQuantSrgb (not the default): the floor is half a step of the 8-bit sRGB
