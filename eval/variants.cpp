@@ -135,7 +135,7 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyClipCurvatureCentred = value != 0.0f;
     else if (key == "curvinner")  // with curvcentre=1: the interval's inner bound (0 < inner < kappa)
       params->steadyClipCurvatureInner = value;
-    else if (key == "quantsrgb")  // round 7: the clip's floor half an sRGB step at the level
+    else if (key == "quantsrgb")  // the clip's floor half an sRGB step at the level (the default; =0: linear)
       params->steadyClipQuantSrgb = value != 0.0f;
     else if (key == "curvkappa")  // with curvbox=1
       params->steadyClipCurvatureKappa = value;

@@ -194,17 +194,13 @@ void processPixel(ivec2 p, ivec2 o) {
         clipExt2 = min(clipExt2, curvExt * curvExt);
       }
     }
-    // Params::steadyClipQuantSrgb (not the default): the floor is half a step of the 8-bit sRGB
-    // input at the box mean's luma, d(linear)/d(sRGB) / 255 / 2, finer than kQuantVar in the dark.
-    if ((kSteadyBoxSwitches & 2) != 0) {
-      // ((s + 0.055) / 1.055)^1.4 with s the level encoded is level^(1.4 / 2.4): one pow, not two.
-      const float level = max(ymn.x, 0.0);
-      const float slope = level <= 0.0031308 ? 1.0 / 12.92 : (2.4 / 1.055) * pow(level, 7.0 / 12.0);
-      const float halfStep = (0.5 / 255.0) * slope;
-      clipExt2 += halfStep * halfStep;
-    } else {
-      clipExt2 += kQuantVar;
-    }
+    // Params::steadyClipQuantSrgb (the default; the host sets the bit only for sRGB input): the floor
+    // is half a step of the 8-bit input at the box mean's luma L, not in linear light. The slope
+    // d(linear)/d(code) is gamma 2's, 2 sqrt(L) (item 4's stand-in for sRGB), never below sRGB's
+    // linear toe 1/12.92; squared, so no sqrt or pow.
+    const float srgbSlope2 = max(4.0 * max(ymn.x, 0.0), 1.0 / (12.92 * 12.92));
+    const float floorSlope2 = (kSteadyBoxSwitches & 2) != 0 ? srgbSlope2 : 1.0;
+    clipExt2 += kQuantVar * floorSlope2;
     vec3 d = toYCoCg(hs.rgb) - boxCentre;
     // Params::steadyClipHoldsCurrent (not the default): the box reaches out, on the history's side
     // and per channel, to the current frame's own estimate of the pixel's area average (fc).

@@ -2,6 +2,7 @@
 // references (reference.h, written from the seeds): temporal, steady, fxaa, stereo.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/gtc/packing.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -85,6 +86,20 @@ INSTANTIATE_TEST_SUITE_P(Passes, TemporalReference,
 // The steady method against its CPU reference, chained over four frames: the sample count
 // builds up in the history's alpha, a patch that moves makes clips lower it, the head rotates and
 // translates by sub-pixel amounts, and the frames carry noise.
+namespace {
+// Linear light rounded to the nearest 8-bit sRGB code (IEC 61966-2-1 encode, then decode).
+HostImage toSrgb8(HostImage img) {
+  for (auto& px : img.px)
+    for (int ch = 0; ch < 3; ++ch) {
+      const double l = std::clamp(double(px[ch]), 0.0, 1.0);
+      const double s = l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055;
+      const double code = std::round(s * 255.0) / 255.0;
+      px[ch] = float(code <= 0.04045 ? code / 12.92 : std::pow((code + 0.055) / 1.055, 2.4));
+    }
+  return img;
+}
+}  // namespace
+
 class SteadyReference : public CoreTest, public ::testing::WithParamInterface<std::string> {};
 
 TEST_P(SteadyReference, MatchesCpuReference) {
@@ -115,6 +130,10 @@ TEST_P(SteadyReference, MatchesCpuReference) {
     p.taaClipGamma = 0.5f;
   }
   const bool withDepth = variant == "depth";
+  // 8-bit sRGB input, where the clip's floor is half an sRGB step (Params::steadyClipQuantSrgb);
+  // the other variants feed RGBA16F, where it is half a linear step.
+  const bool srgbInput = variant == "srgbinput" || variant == "srgbinputlinearfloor";
+  if (variant == "srgbinputlinearfloor") p.steadyClipQuantSrgb = false;
   // Jittered input: the layer's Halton(2,3) offsets, one per frame (and one frame unjittered).
   const bool jittered = variant == "jitter" || variant == "jitterraw" || variant == "nocurvboxjitter" ||
                         variant == "nocurvcentredjitter";
@@ -128,7 +147,7 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   }
   auto f = makeFilter("steady", p);
   ASSERT_TRUE(f);
-  Rig rig(W, H);
+  Rig rig(W, H, srgbInput ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R16G16B16A16_SFLOAT);
   std::array<HostImage, 2> hist;
   std::array<RefView, 2> prev;
   for (int k = 0; k < 4; ++k) {
@@ -150,11 +169,13 @@ TEST_P(SteadyReference, MatchesCpuReference) {
           fr.depth[e].at(x, y).r = (1.0f / z - 1.0f / 0.1f) / (1.0f / 100.0f - 1.0f / 0.1f);
         }
     }
+    if (srgbInput)
+      for (auto& img : fr.color) img = toSrgb8(img);  // what the pass reads back from the image
     const auto out = rig.run(*f, fr);
     for (int e = 0; e < 2; ++e) {
       const HostImage want =
           toHalf(test::steadyRef(p, toHalf(fr.color[e]), hist[e], k > 0, prev[e], fr.views[e],
-                                 withDepth ? &fr.depth[e] : nullptr, 0.1f, 100.0f, fr.jitter[e]));
+                                 withDepth ? &fr.depth[e] : nullptr, 0.1f, 100.0f, fr.jitter[e], srgbInput));
       const Diff d = compare(out[e], want);
       // Tolerance as in TemporalReference (8 sub-texel bits of GPU bilinear weights, half
       // precision), over a chain of frames; few pixels sit on a clip decision boundary.
@@ -174,7 +195,7 @@ INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
                                            "swaysummed", "interpolated", "rejectnoblur", "constant", "depth",
                                            "wideclip", "jitter", "jitterraw", "clipholdscurrent", "nocurvbox",
                                            "nocurvboxjitter", "nocurvcentred", "nocurvcentredjitter",
-                                           "quantsrgb"));
+                                           "srgbinput", "srgbinputlinearfloor"));
 
 namespace {
 // Pixels of `a` farther than `tolerance` from `b` in any channel.

@@ -32,9 +32,11 @@ HostImage temporalRef(core::TemporalMethod m, const core::Params& p, const HostI
 // One step of the steady method (steady_reference.cpp). The history's alpha holds its sample
 // count; so does the returned image's. jitterPx: `cur` was rendered on a grid shifted by it
 // (ViewFrame::jitterPx: its pixel c holds the point at c + jitterPx of the output grid).
+// srgbInput: `cur` came from an 8-bit sRGB image (Params::steadyClipQuantSrgb's floor applies).
 HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage& hist, bool histValid,
                     const RefView& prev, const RefView& now, const HostImage* depth = nullptr,
-                    float nearZ = 0.1f, float farZ = 100.0f, glm::vec2 jitterPx = glm::vec2(0.0f));
+                    float nearZ = 0.1f, float farZ = 100.0f, glm::vec2 jitterPx = glm::vec2(0.0f),
+                    bool srgbInput = false);
 
 HostImage fxaaRef(const HostImage& in);
 

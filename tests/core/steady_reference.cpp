@@ -48,14 +48,12 @@ glm::vec3 momentWeights(const float x[3], float m2) {
   return w;
 }
 
-// Half a step of 8-bit sRGB at linear level `linear`, squared: 0.5/255 times d linear / d encoded of
-// the IEC 61966-2-1 decode, linear = ((s + 0.055) / 1.055)^2.4 above s = 0.04045, s / 12.92 below.
+// Half a step of the 8-bit sRGB input at linear level `linear`, squared (Params::steadyClipQuantSrgb).
 float srgbHalfStepVar(float linear) {
-  const float l = std::max(linear, 0.0f);
-  const float s = l <= 0.0031308f ? 12.92f * l : 1.055f * std::pow(l, 1.0f / 2.4f) - 0.055f;
-  const float dLinearDs =
-      s <= 0.04045f ? 1.0f / 12.92f : 2.4f / 1.055f * std::pow((s + 0.055f) / 1.055f, 1.4f);
-  const float halfStep = 0.5f / 255.0f * dLinearDs;
+  // Half a code of an 8-bit gamma-2 encoding (linear = code^2: d linear / d code = 2 sqrt(linear)),
+  // with sRGB's linear toe (IEC 61966-2-1: slope 1/12.92) as its least.
+  const float dLinearDcode = std::max(2.0f * std::sqrt(std::max(linear, 0.0f)), 1.0f / 12.92f);
+  const float halfStep = 0.5f / 255.0f * dLinearDcode;
   return halfStep * halfStep;
 }
 
@@ -63,7 +61,7 @@ float srgbHalfStepVar(float linear) {
 
 HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage& hist, bool histValid,
                     const RefView& prev, const RefView& now, const HostImage* depth, float nearZ, float farZ,
-                    glm::vec2 jitterPx) {
+                    glm::vec2 jitterPx, bool srgbInput) {
   HostImage out(cur.width, cur.height);
   const glm::uvec2 size(cur.width, cur.height);
   const bool catmull = p.historyFilter == core::HistoryFilter::CatmullRom;
@@ -165,7 +163,8 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
               }
             }
           }
-          float box = std::sqrt(boxVar + (p.steadyClipQuantSrgb ? srgbHalfStepVar(mean.x) : quantVar));
+          float box =
+              std::sqrt(boxVar + (p.steadyClipQuantSrgb && srgbInput ? srgbHalfStepVar(mean.x) : quantVar));
           const bool currentOnHistorySide = (h[ch] - centre[ch]) * (areaY[ch] - centre[ch]) >= 0.0f;
           if (p.steadyClipHoldsCurrent && currentOnHistorySide)
             box = std::max(box, std::abs(areaY[ch] - centre[ch]));

@@ -53,8 +53,9 @@ void usage() {
                "that steady+stereo blends without depth (else it skips the pass: the disparity's\n"
                "spread exceeds a pixel); @tapcurv=0: stereo without the tap's curvature correction;\n"
                "@curvbox, @curvbox=0: steady's clip box bounded by second differences or not "
-               "(steadyClipCurvature); @curvcentre, @curvcentre=0, @quantsrgb: round 7's one-sided curvature box (or not) and\n"
-               "sRGB quantisation floor (steadyClipCurvatureCentred, steadyClipQuantSrgb).\n";
+               "(steadyClipCurvature); @curvcentre, @curvcentre=0, @quantsrgb, @quantsrgb=0: the\n"
+               "one-sided curvature box and the sRGB quantisation floor, or not\n"
+               "(steadyClipCurvatureCentred, steadyClipQuantSrgb).\n";
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -273,8 +274,10 @@ std::optional<Params> methodParams(const std::string& spec) {
       params->steadyClipCurvatureCentred = true;
     else if (suffix == "curvcentre=0")  // the default without it (round 6's box)
       params->steadyClipCurvatureCentred = false;
-    else if (suffix == "quantsrgb")  // round 7: the clip's floor half an sRGB step (Params)
+    else if (suffix == "quantsrgb")  // the clip's floor half an sRGB step (Params; the default)
       params->steadyClipQuantSrgb = true;
+    else if (suffix == "quantsrgb=0")  // the default with the linear floor (round 7's cost comparison)
+      params->steadyClipQuantSrgb = false;
     else
       return std::nullopt;
   }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "filter_formats.h"
 #include "filter_geometry.h"
 #include "steadyxr/core/view_math.h"
 
@@ -49,6 +50,7 @@ PassSwitches baseSwitches(const PassContext& c, uint32_t e) {
   PassSwitches sw;
   sw.encodeSrgb = c.plan.targets[e].srgb;
   sw.swapRedBlue = c.plan.targets[e].swap;
+  sw.inputSrgb = isSrgb(c.frame.views[e].color.format);
   sw.depthBits = c.plan.hasDepth[e] ? 1 : 0;
   return sw;
 }
@@ -217,9 +219,10 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
           temporal && params.historyFilter == HistoryFilter::CatmullRom ? 1 : 0, blocked ? 1 : 0,
           static_cast<int32_t>(groupX), static_cast<int32_t>(groupY), sw.historyEncoding,
           // Round 7's clip-box switches, compiled in only where on (lavapipe runs the default's
-          // pipeline ~20 % slower with them behind uniform branches).
+          // pipeline ~20 % slower with them behind uniform branches). The sRGB floor only where the
+          // input is sRGB: UNORM input is filtered in its own codes, whose step is the linear floor.
           temporal ? (params.steadyClipCurvature && params.steadyClipCurvatureCentred ? 1 : 0) |
-                         (params.steadyClipQuantSrgb ? 2 : 0)
+                         (params.steadyClipQuantSrgb && sw.inputSrgb ? 2 : 0)
                    : 0};
 }
 

@@ -27,7 +27,8 @@ struct PassSwitches {
   bool writeHistory = false;
   bool encodeSrgb = false;
   bool swapRedBlue = false;
-  int32_t depthBits = 0;  // bit0: this eye's depth, bit1: the other eye's
+  bool inputSrgb = false;       // the app's image is sRGB: the passes read it decoded to linear light
+  int32_t depthBits = 0;        // bit0: this eye's depth, bit1: the other eye's
   int32_t historyEncoding = 0;  // kHistoryEncoding: 0 RGBA16F, 1 RGBA8 dithered, 2 RGBA8 nearest
 };
 

@@ -137,16 +137,15 @@ struct Params {
   bool steadyClipCurvatureCentred = true;
   // inner: 1/3 - V_max/2 with V_max = 5/12, the blurriest static history (kappa's comment): 1/8.
   float steadyClipCurvatureInner = 1.0f / 8.0f;
-  // Issue 14 round 7 (not the default): the clip box's floor (a flat 3x3 has sigma = 0 and c'' = 0)
-  // is half a step of the 8-bit sRGB input at the box mean's luma (IEC 61966-2-1: d linear / d
-  // encoded = 2.4/1.055 ((s + 0.055)/1.055)^1.4, 1/12.92 near black), not half a step in linear
-  // light: at a linear level of 0.02 an sRGB step is 0.24/255, so the linear floor admits a lag of
-  // four input steps where the light changes (the start of a fade up from 15 %: 1.71x none's at
-  // 90 Hz on the astronaut; the fade scene's 270 cases with steadyClipCurvatureCentred: README item 8).
-  // Costs one pow per pixel (3.59x the copy with both switches, 3.35x without it). On UNORM input
-  // (filtered in encoded values) it is narrower than a step in the dark: more clips, towards the
-  // current frame.
-  bool steadyClipQuantSrgb = false;
+  // Issue 14 round 8 (the default; round 7 measured it with an exact pow, off): the clip box's floor
+  // (a flat 3x3 has sigma = 0 and c'' = 0) is half a step of the 8-bit sRGB input at the box mean's
+  // luma L, not half a step in linear light: at L = 0.02 an sRGB step is 0.24/255, so the linear
+  // floor admits a lag of four input steps where the light changes (the start of a fade up from
+  // 15 %: 1.71x none's at 90 Hz on the astronaut; README item 8). The slope d linear / d code is
+  // gamma 2's, 2 sqrt(L) (0.88-1.42x IEC 61966-2-1's over the codes; the stand-in the
+  // footprint uses), never below sRGB's linear toe 1/12.92, so it costs a multiply and a max.
+  // Applied only to sRGB input: UNORM input is filtered in its own codes (a linear step).
+  bool steadyClipQuantSrgb = true;
   // Resampling-blur guard: a bilinear history tap at sub-pixel offset (fx, fy) adds fx(1-fx) +
   // fy(1-fy) px^2 of blur variance; alpha is raised so that the steady-state blur of the history,
   // (1 - alpha) / alpha times that, stays within steadyBlurBudgetPx2 (0 = off). 1/6 = 1/12 + 1/12,
