@@ -117,7 +117,7 @@ int runSuite(const Options& o) {
     if (o.ppd > 0.0) {
       // The layer's assumed distances stand for a real scene's; under --ppd every scene's depths
       // are 1/s times its own (scene.h, makeScene), so are these: the no-depth stereo disparity
-      // and the nearest-depth blur guard then come out in the pixels they have without --ppd.
+      // and its nearest-depth spread then come out in the pixels they have without --ppd.
       const float depthScale = float(1.0 / ppdTangentScale(o.ppd, o.width));
       v.params.stereoFarDistanceM *= depthScale;
       v.params.steadyNearestDepthM *= depthScale;

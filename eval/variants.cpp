@@ -147,7 +147,7 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyFootprint = value;
     else if (key == "jrecentre")
       params->steadyJitterRecentred = value != 0.0f;
-    else if (key == "near")
+    else if (key == "near")  // the stereo pass's nearest content without depth (round 8: steady no longer)
       params->steadyNearestDepthM = value;
     else if (key == "interp")
       params->steadyInterpolated = value != 0.0f;

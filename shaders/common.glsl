@@ -78,7 +78,6 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   ivec2 outOffset;          // where pixel (0,0) goes in uOut
   ivec2 appInputOffset;     // uAppInput's rect offset (its size is src0's)
   vec2 jitterPx;            // src0's grid offset in pixels (its pixel c - jitter holds our pixel c)
-  float parallaxSpreadPx2;  // steady without depth: the reprojection's parallax spread, px^2
   int historyValid;         // temporal: 0 after a reset or an invalid pose
   float taaAlpha;           // taa: weight of the current frame; steady: its constant alpha (ablation)
   float clipGamma;          // variance clip box mean +- gamma*sigma (taa, hybrid, stereo; steady's own)

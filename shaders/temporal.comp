@@ -216,10 +216,8 @@ void processPixel(ivec2 p, ivec2 o) {
     vec2 f = fract(q - 0.5);                // bilinear tap offset within the texel
     vec2 axisBlur = f * (1.0 - f);          // the tap's blur variance per axis, px^2
     // The added blur variance over the budget (the box's x + y variance): per axis, the blurrier
-    // axis (the parallax spread may lie along either) counted for both
-    // (Params::steadyHistoryBlurPerAxis); else summed over the axes.
-    float v = P.steadyHistoryBlurPerAxis > 0.5 ? 2.0 * (max(axisBlur.x, axisBlur.y) + P.parallaxSpreadPx2)
-                                                : axisBlur.x + axisBlur.y + P.parallaxSpreadPx2;
+    // axis counted for both (Params::steadyHistoryBlurPerAxis); else summed over the axes.
+    float v = P.steadyHistoryBlurPerAxis > 0.5 ? 2.0 * max(axisBlur.x, axisBlur.y) : axisBlur.x + axisBlur.y;
     float blur = v * P.steadyInvBlurBudgetPx2;
     a = max(a, blur / (blur + 1.0));        // steady-state blur (1 - a) / a * v <= budget
     a = P.steadyConfidence > 0.5 ? a : P.taaAlpha;  // ablation: constant alpha

@@ -100,7 +100,6 @@ const std::vector<Member> kPassUniforms = {
     HOST_MEMBER(PassUniforms, outOffset),
     HOST_MEMBER(PassUniforms, appInputOffset),
     HOST_MEMBER(PassUniforms, jitterPx),
-    HOST_MEMBER(PassUniforms, parallaxSpreadPx2),
     HOST_MEMBER(PassUniforms, historyValid),
     HOST_MEMBER(PassUniforms, taaAlpha),
     HOST_MEMBER(PassUniforms, clipGamma),

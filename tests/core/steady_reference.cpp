@@ -71,15 +71,6 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
                            : prev;
   const float maxCount = 1.0f / p.steadyAlphaFloor;
   const float quantVar = (0.5f / 255.0f) * (0.5f / 255.0f);  // half an 8-bit step, squared
-  // Without depth: how far apart (px) the history of a point at the far plane and one at the
-  // nearest assumed depth lie, for the eye's translation since the last frame.
-  float parallaxVar = 0.0f;
-  if (!depth && histValid) {
-    const float focalPx = float(cur.width) / (std::tan(now.fov.angleRight) - std::tan(now.fov.angleLeft));
-    const float e = focalPx * glm::distance(now.pose.position, prev.pose.position) *
-                    (1.0f / p.steadyNearestDepthM - 1.0f / p.stereoFarDistanceM);
-    parallaxVar = e * e;
-  }
   for (uint32_t y = 0; y < cur.height; ++y)
     for (uint32_t x = 0; x < cur.width; ++x) {
       // Jittered input (a jitter of exactly (0, 0) is an unjittered frame): sample (i, j) of the
@@ -178,12 +169,11 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
           // A bilinear tap at offset f within the texel blurs by f(1 - f) per axis; a history blended
           // with weight 1 - alpha every frame settles at (1 - alpha) / alpha times that.
           // The budget is the box footprint's variance summed over x and y (1/12 + 1/12). Per
-          // axis: each axis's blur (parallax along either) against its half, the worse one decides.
+          // axis: each axis's blur against its half, the worse one decides.
           const vec2 texel = q - 0.5f;
           const vec2 f = texel - glm::floor(texel);
           const float vx = f.x * (1.0f - f.x), vy = f.y * (1.0f - f.y);
-          const float v =
-              p.steadyHistoryBlurPerAxis ? 2.0f * (std::max(vx, vy) + parallaxVar) : vx + vy + parallaxVar;
+          const float v = p.steadyHistoryBlurPerAxis ? 2.0f * std::max(vx, vy) : vx + vy;
           alpha = std::max(alpha, v / (v + p.steadyBlurBudgetPx2));
         }
         if (!p.steadyConfidence) alpha = p.taaAlpha;

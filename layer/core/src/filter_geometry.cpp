@@ -79,14 +79,14 @@ DepthToInvZ depthToInvZ(const DepthRef& d) {
   return {invNear, invFar - invNear, d.minDepth, range != 0.0f ? 1.0f / range : 1.0f};
 }
 
-float parallaxSpreadPx2(const Params& params, const ViewFrame& v, const Pose& prevPose, VkExtent2D eyeSize) {
+float parallaxSpreadPx2(const Params& params, const ViewFrame& v, const Pose& otherPose, VkExtent2D eyeSize) {
   const float nearest = params.steadyNearestDepthM;
   if (!std::isfinite(nearest) || !(nearest > 0.0f)) return 0.0f;
   const float invFar = std::isinf(params.stereoFarDistanceM) ? 0.0f : 1.0f / params.stereoFarDistanceM;
   const float spreadInvZ = std::max(1.0f / nearest - invFar, 0.0f);
   const float focalPx =
       static_cast<float>(eyeSize.width) / (std::tan(v.fov.angleRight) - std::tan(v.fov.angleLeft));
-  const float e = focalPx * glm::length(v.pose.position - prevPose.position) * spreadInvZ;
+  const float e = focalPx * glm::length(v.pose.position - otherPose.position) * spreadInvZ;
   return std::isfinite(e) ? std::min(e * e, 1e6f) : 1e6f;
 }
 

@@ -20,9 +20,10 @@ glm::mat4 reprojection(const Pose& from, const Fov& fromFov, VkExtent2D fromSize
 bool validDepth(const DepthRef& d);
 DepthToInvZ depthToInvZ(const DepthRef& d);
 
-// Squared spread (px^2) of where the history of a point lies, over the depths between the far
-// plane (what the reprojection assumes without depth) and steadyNearestDepthM, for the eye's
-// translation since the last frame: focal length in px times |translation| times the spread of 1/z.
-float parallaxSpreadPx2(const Params& params, const ViewFrame& v, const Pose& prevPose, VkExtent2D eyeSize);
+// Squared spread (px^2) of where a point's image lies in `v`'s eye seen from `otherPose`, over the
+// depths between the far plane (what a reprojection assumes without depth) and
+// steadyNearestDepthM: focal length in px times |eye offset| times the spread of 1/z. The stereo
+// pass's disparity without depth (otherPose: the other eye's).
+float parallaxSpreadPx2(const Params& params, const ViewFrame& v, const Pose& otherPose, VkExtent2D eyeSize);
 
 }  // namespace steadyxr::core::detail

@@ -149,8 +149,6 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
   if (!std::isfinite(u.jitterPx.x) || !std::isfinite(u.jitterPx.y) || std::abs(u.jitterPx.x) > 1.0f ||
       std::abs(u.jitterPx.y) > 1.0f)
     u.jitterPx = glm::vec2(0.0f);  // sub-pixel only; anything else is a caller bug: ignore it
-  if (steady && eye.valid)
-    u.parallaxSpreadPx2 = c.plan.hasDepth[e] ? 0.0f : parallaxSpreadPx2(params, v, eye.prevPose, eye.size);
   return d;
 }
 

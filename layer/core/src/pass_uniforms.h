@@ -42,7 +42,6 @@ struct PassUniforms {
   glm::ivec2 outOffset;          // where pixel (0, 0) goes in the output image
   glm::ivec2 appInputOffset;     // the app's input rect (uAppInput, the alpha of every output)
   glm::vec2 jitterPx;            // src0's grid offset in pixels: its pixel c - jitter holds our pixel c
-  float parallaxSpreadPx2;       // steady without depth: the reprojection's parallax spread, px^2
   int32_t historyValid;          // temporal: 0 after a reset or an invalid pose
   float taaAlpha;                // taa: weight of the current frame; steady: its constant alpha (ablation)
   float clipGamma;               // variance clip box mean +- gamma*sigma (taa, hybrid, stereo; steady's own)
@@ -89,33 +88,32 @@ static_assert(offsetof(PassUniforms, depth1Offset) == 360);
 static_assert(offsetof(PassUniforms, outOffset) == 368);
 static_assert(offsetof(PassUniforms, appInputOffset) == 376);
 static_assert(offsetof(PassUniforms, jitterPx) == 384);
-static_assert(offsetof(PassUniforms, parallaxSpreadPx2) == 392);
-static_assert(offsetof(PassUniforms, historyValid) == 396);
-static_assert(offsetof(PassUniforms, taaAlpha) == 400);
-static_assert(offsetof(PassUniforms, clipGamma) == 404);
-static_assert(offsetof(PassUniforms, alphaMin) == 408);
-static_assert(offsetof(PassUniforms, shapeS) == 412);
-static_assert(offsetof(PassUniforms, wMin) == 416);
-static_assert(offsetof(PassUniforms, wLowerBound) == 420);
-static_assert(offsetof(PassUniforms, fallbackInvZ) == 424);
-static_assert(offsetof(PassUniforms, stereoDepthTolerance) == 428);
-static_assert(offsetof(PassUniforms, stereoBetaMin) == 432);
-static_assert(offsetof(PassUniforms, steadyAlphaFloor) == 436);
-static_assert(offsetof(PassUniforms, steadyConfidence) == 440);
-static_assert(offsetof(PassUniforms, steadyClipRejects) == 444);
-static_assert(offsetof(PassUniforms, steadyInvBlurBudgetPx2) == 448);
-static_assert(offsetof(PassUniforms, steadyFootprint) == 452);
-static_assert(offsetof(PassUniforms, steadyFootprintEncoded) == 456);
-static_assert(offsetof(PassUniforms, ditherSeed) == 460);
-static_assert(offsetof(PassUniforms, stereoInverseVariance) == 464);
-static_assert(offsetof(PassUniforms, stereoSampleCountScale) == 468);
-static_assert(offsetof(PassUniforms, stereoDisparitySpreadPx2) == 472);
-static_assert(offsetof(PassUniforms, steadyJitterRecentred) == 476);
-static_assert(offsetof(PassUniforms, steadyHistoryBlurPerAxis) == 480);
-static_assert(offsetof(PassUniforms, steadyClipHoldsCurrent) == 484);
-static_assert(offsetof(PassUniforms, stereoTapCurvature) == 488);
-static_assert(offsetof(PassUniforms, steadyClipCurvatureKappa) == 492);
-static_assert(offsetof(PassUniforms, steadyClipCurvatureInner) == 496);
-static_assert(sizeof(PassUniforms) == 512);  // the block's 500 bytes, 16-aligned by DepthToInvZ
+static_assert(offsetof(PassUniforms, historyValid) == 392);
+static_assert(offsetof(PassUniforms, taaAlpha) == 396);
+static_assert(offsetof(PassUniforms, clipGamma) == 400);
+static_assert(offsetof(PassUniforms, alphaMin) == 404);
+static_assert(offsetof(PassUniforms, shapeS) == 408);
+static_assert(offsetof(PassUniforms, wMin) == 412);
+static_assert(offsetof(PassUniforms, wLowerBound) == 416);
+static_assert(offsetof(PassUniforms, fallbackInvZ) == 420);
+static_assert(offsetof(PassUniforms, stereoDepthTolerance) == 424);
+static_assert(offsetof(PassUniforms, stereoBetaMin) == 428);
+static_assert(offsetof(PassUniforms, steadyAlphaFloor) == 432);
+static_assert(offsetof(PassUniforms, steadyConfidence) == 436);
+static_assert(offsetof(PassUniforms, steadyClipRejects) == 440);
+static_assert(offsetof(PassUniforms, steadyInvBlurBudgetPx2) == 444);
+static_assert(offsetof(PassUniforms, steadyFootprint) == 448);
+static_assert(offsetof(PassUniforms, steadyFootprintEncoded) == 452);
+static_assert(offsetof(PassUniforms, ditherSeed) == 456);
+static_assert(offsetof(PassUniforms, stereoInverseVariance) == 460);
+static_assert(offsetof(PassUniforms, stereoSampleCountScale) == 464);
+static_assert(offsetof(PassUniforms, stereoDisparitySpreadPx2) == 468);
+static_assert(offsetof(PassUniforms, steadyJitterRecentred) == 472);
+static_assert(offsetof(PassUniforms, steadyHistoryBlurPerAxis) == 476);
+static_assert(offsetof(PassUniforms, steadyClipHoldsCurrent) == 480);
+static_assert(offsetof(PassUniforms, stereoTapCurvature) == 484);
+static_assert(offsetof(PassUniforms, steadyClipCurvatureKappa) == 488);
+static_assert(offsetof(PassUniforms, steadyClipCurvatureInner) == 492);
+static_assert(sizeof(PassUniforms) == 496);  // the block's 496 bytes (16-aligned by DepthToInvZ)
 
 }  // namespace steadyxr::core

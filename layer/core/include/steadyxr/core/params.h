@@ -184,11 +184,13 @@ struct Params {
   // the pixel alone (over the jitter's cycle, uniform over the pixel, its running mean converges
   // to the box average, Karis 2014), measured worse on the corpus: 89.0 % of none's against 76.9 %.
   bool steadyJitterRecentred = true;
-  // Without the app's depth the history is reprojected through the far plane; a point nearer
-  // than it moves differently when the eye translates. The spread of that error between the far
-  // plane and steadyNearestDepthM (in px, e) counts as e^2 px^2 of extra blur in the guard above.
-  // 0.75 m: the nearest distance of the comfortable content range in Oculus' VR best practices
-  // (0.75-3.5 m). Off when the app gives depth or the value is not finite and positive.
+  // The nearest distance of content (0.75 m: the near end of the comfortable range, 0.75-3.5 m, in
+  // Oculus' VR best practices). Used by the stereo pass without depth: the disparity is the far
+  // plane's, the true one lies anywhere up to this distance (its spread; over a pixel, no blend).
+  // Round 8 removed its use in steady's blur guard (the reprojection's parallax spread without
+  // depth counted as blur): it did not measurably help on the corpus (0.702 against 0.703 of
+  // none's without it, nothing at 90 Hz or 20 ppd; round 7 run): RMSE was higher with it in 16 of
+  // the 19 cases it moved by over 0.3 % (the disocclusion scene without depth in all 10).
   float steadyNearestDepthM = 0.75f;
   bool steadyInterpolated = false;  // ablation: seed 003's reprojection to the pose at sampleD[0]
 
