@@ -197,7 +197,7 @@ PassDispatch stereoPass(const PassContext& c, uint32_t e) {
   u.stereoTapCurvature = u.stereoInverseVariance > 0.5f && c.params.stereoTapCurvature ? 1.0f : 0.0f;
   if (u.stereoInverseVariance > 0.5f) u.clipGamma = c.params.stereoClipGammaAfterSteady;
   // Without this eye's depth the disparity is the far plane's; the true one lies anywhere up to
-  // the nearest comfortable distance: steady's parallax spread with the other eye's offset.
+  // the nearest comfortable distance (steadyNearestDepthM), for the other eye's offset.
   if (!c.plan.hasDepth[e] && c.plan.poseOk[e] && c.plan.poseOk[o])
     u.stereoDisparitySpreadPx2 = parallaxSpreadPx2(c.params, c.frame.views[e], c.frame.views[o].pose,
                                                    c.frame.views[e].color.rect.extent);

@@ -154,8 +154,7 @@ struct Params {
   float steadyBlurBudgetPx2 = 1.0f / 6.0f;
   // The guard above per axis: the box's variance is 1/12 px^2 along x and along y, and a history
   // blurred by more along one axis is blurrier than the box there, whatever the other axis holds.
-  // So the blurrier axis's blur (its f(1 - f), plus the parallax spread below, which lies along
-  // the eye's translation, either axis) is counted for both. Summed over the axes instead, a
+  // So the blurrier axis's blur, its f(1 - f), is counted for both. Summed over the axes instead, a
   // motion along one axis (sway, a pursuit, a lean) may blur that axis by the whole 1/6. Measured
   // on the corpus (README, the default): worst frame 1.09x none's against 1.17x summed (no case
   // above 1.10x against 2), mean RMSE 67.6 % of none's against 68.3 %, 97 cases at or below the
