@@ -83,9 +83,6 @@ INSTANTIATE_TEST_SUITE_P(Passes, TemporalReference,
                            return s;
                          });
 
-// The steady method against its CPU reference, chained over four frames: the sample count
-// builds up in the history's alpha, a patch that moves makes clips lower it, the head rotates and
-// translates by sub-pixel amounts, and the frames carry noise.
 namespace {
 // Linear light rounded to the nearest 8-bit sRGB code (IEC 61966-2-1 encode, then decode).
 HostImage toSrgb8(HostImage img) {
@@ -100,6 +97,9 @@ HostImage toSrgb8(HostImage img) {
 }
 }  // namespace
 
+// The steady method against its CPU reference, chained over four frames: the sample count
+// builds up in the history's alpha, a patch that moves makes clips lower it, the head rotates and
+// translates by sub-pixel amounts, and the frames carry noise.
 class SteadyReference : public CoreTest, public ::testing::WithParamInterface<std::string> {};
 
 TEST_P(SteadyReference, MatchesCpuReference) {
