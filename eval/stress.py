@@ -197,8 +197,9 @@ def judge(case, out_dir):
     if (out_dir / "overlay.csv").exists():  # head-locked content: its pixels and the world ring around it
         for part in ("core", "border"):
             series = overlay_report.read_series(out_dir / "overlay.csv", "rmse_" + part)
+            case_label = next(iter(series))[0]  # one case per run
             v[f"overlay_{part}_mean"], v[f"overlay_{part}_worst"] = overlay_report.ratios(
-                series[(next(iter(series))[0], "default")], series[(next(iter(series))[0], "none")])
+                series[(case_label, "default")], series[(case_label, "none")])
     return v
 
 
