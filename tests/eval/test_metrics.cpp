@@ -489,6 +489,20 @@ TEST(EvalTargets, EachTargetIsCheckedByWhatACaseIs) {
     auto rows = goodRows();
     find(rows, "turn", "default").recoveryFrames = 4;
     expectOnlyMissed(rows, 2);
+    find(rows, "turn", "default").recovered = false;  // 4 frames to the end and still above
+    expectOnlyMissed(rows, 2);
+  }
+  {
+    // A change 2 frames before the end, still above none there: the run ends before the 3 frames
+    // the target allows, so it is neither met nor missed (listed as undecided).
+    auto rows = goodRows();
+    find(rows, "turn", "default").recoveryFrames = 2;
+    find(rows, "turn", "default").recovered = false;
+    EXPECT_EQ(metFlags(rows), all);
+    bool listed = false;
+    for (const TargetCheck& t : checkTargets(rows, "hybrid"))
+      listed = listed || t.detail.find("1 undecided") != std::string::npos;
+    EXPECT_TRUE(listed);
   }
   {
     // Shimmer counts on the low-speed case only: a high temporal error at speed is not shimmer.
