@@ -1,5 +1,6 @@
 # The Debian package (CPack): steadyxr_<version>_amd64.deb with the layer, both manifests, the
-# IMU emulator, the `steadyxr` tool, an example config, the READMEs and man pages.
+# IMU emulator, the `steadyxr` tool, an example config, the READMEs (with docs/, which the top README
+# links to) and man pages.
 #
 #   cmake -S . -B build -DCMAKE_BUILD_TYPE=Release && cmake --build build -j && (cd build && cpack -G DEB)
 #
@@ -8,6 +9,11 @@ include(GNUInstallDirs)
 
 set(STEADYXR_DOC_DIR ${CMAKE_INSTALL_DATADIR}/doc/steadyxr)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${STEADYXR_DOC_DIR})
+# docs/ beside README.md, so that the README's links into docs/ resolve in the installed folder too.
+install(FILES ${PROJECT_SOURCE_DIR}/docs/ARCHITECTURE.md ${PROJECT_SOURCE_DIR}/docs/evaluation-corpus.md
+              ${PROJECT_SOURCE_DIR}/docs/evaluation-scenes.md ${PROJECT_SOURCE_DIR}/docs/method-history.md
+              ${PROJECT_SOURCE_DIR}/docs/cost.md
+        DESTINATION ${STEADYXR_DOC_DIR}/docs)
 install(FILES ${PROJECT_SOURCE_DIR}/layer/xr/README.md DESTINATION ${STEADYXR_DOC_DIR} RENAME README.layer.md)
 install(FILES ${PROJECT_SOURCE_DIR}/imu/README.md DESTINATION ${STEADYXR_DOC_DIR} RENAME README.imu.md)
 install(FILES ${CMAKE_CURRENT_LIST_DIR}/copyright DESTINATION ${STEADYXR_DOC_DIR})
