@@ -1,5 +1,5 @@
 // --corpus: every head-motion preset over a picture set and the scene set in one run, summarised
-// in one table per motion class and picture class (README "Accuracy").
+// in one table per motion class and picture class (docs/evaluation-corpus.md).
 #pragma once
 
 #include "results.h"

@@ -181,7 +181,7 @@ int main(int argc, char** argv) {
     if (!framesGiven) o.frames = 16;
   }
   if (o.corpus) {
-    // Sized to stay well within 10 minutes on 2 cores: 120 cases took 5 min 10 s (README "Accuracy").
+    // Sized to stay well within 10 minutes on 2 cores: 120 cases took 5 min 10 s (docs/evaluation-corpus.md).
     if (!resolutionGiven) o.width = o.height = 96;
     if (!framesGiven) o.frames = 48;
     if (!displayGiven) o.displayHz = o.appHz;  // the display stage's extra ground truths cost 3x

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Prints the README's accuracy tables (markdown) from a steadyxr-eval output folder.
+"""Prints the accuracy tables of README.md and docs/ (markdown) from a steadyxr-eval output folder.
 
     python3 eval/readme_tables.py OUT_DIR            # the default suite (results.csv)
     python3 eval/readme_tables.py --corpus OUT_DIR   # the corpus (corpus.csv)

@@ -44,7 +44,7 @@ PPD_CHOICES = [0.0, 14.0, 20.0]
 # Scenes other than the image viewer take the trace too (their own geometry and textures: the drawn
 # picture is written but unused there, eval/scene.cpp).
 # thin and disocclusion are stretched in depth under --ppd and fit up to about 15 ppd at 96 px, 30
-# at 192 (README "--ppd"): allowed up to 14 ppd per 96 px.
+# at 192 (docs/evaluation-corpus.md, "The corpus's pixel density"): allowed up to 14 ppd per 96 px.
 SCENE_WEIGHTS = {"imageviewer": 0.7, "moving": 0.1, "thin": 0.1, "disocclusion": 0.1}
 # Only when --scenes names them (the default draws stay those of earlier rounds for every seed):
 # - hud: the image viewer with head-locked content (eval/scene_hud.h), the drawn picture behind it; judged
@@ -194,7 +194,7 @@ def judge(case, out_dir):
     v["recovery_undecided"] = not v["recovered"] and v["recovery_ok"]
     v["ok"] = v["mean_ok"] and v["worst_ok"] and v["recovery_ok"]
     # A frame miss where the default is no worse than its own median is none's luck, not a ghost
-    # (README "--ppd": the grid falls on the picture's phase and none is nearly exact). Reported
+    # (docs/evaluation-corpus.md, pixel density: the grid falls on the picture's phase and none is nearly exact). Reported
     # apart, still a miss by the target's letter.
     v["lucky_none"] = not v["worst_ok"] and v.get("default_vs_median", 2.0) <= 1.0
     if (out_dir / "overlay.csv").exists():  # head-locked content: its pixels and the world ring around it

@@ -259,7 +259,7 @@ std::optional<Params> methodParams(const std::string& spec) {
       params->historyFormat = HistoryFormat::Rgba16f;
     else if (suffix == "history=8")
       params->historyFormat = HistoryFormat::Rgba8Dithered;
-    else if (suffix == "catmull")  // the steady candidate's cost (README, "The worst frames")
+    else if (suffix == "catmull")  // the steady candidate's cost (docs/method-history.md, "The worst frames")
       params->historyFilter = HistoryFilter::CatmullRom;
     else if (suffix == "blend")  // the bench has no depth: a scene assumed at the nearest distance
       params->stereoFarDistanceM =

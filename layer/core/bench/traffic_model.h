@@ -9,7 +9,7 @@
 // same pixel costs its full texel. Writes are whole texels, once.
 //
 // The second set of figures counts the shader's memory instructions per pixel as issued, which
-// is what llvmpipe pays for (each is a JIT loop over the SIMD lanes, README "Cost of the passes"):
+// is what llvmpipe pays for (each is a JIT loop over the SIMD lanes, docs/cost.md):
 // a 4x4 block loads its 6x6 neighbourhood once (36/16 = 2.25 fetches per pixel), a bilinear tap is
 // one sample instruction (four texels), a Catmull-Rom history five.
 #pragma once

@@ -36,7 +36,7 @@ enum class HistoryFilter : uint8_t {
 
 enum class InvocationBlock : uint8_t { Auto, OnePixel, FourByFour };
 
-// How the temporal passes store their history (README, "Cost of the passes": the format study).
+// How the temporal passes store their history (docs/cost.md: the format study).
 enum class HistoryFormat : uint8_t {
   Rgba16f,  // 8 bytes per texel, linear light; the sample count in the alpha as is
   // 4 bytes: RGBA8 holding sqrt of linear colour with dithered rounding (a per-pixel, per-frame
@@ -109,8 +109,8 @@ struct Params {
   // sigma (a ramp of slope g: sigma = g sqrt(2/3)). On smooth texture the gamma sigma box admits a
   // lag of ~0.4 px where none's own error is second order; aliased detail and noise have large
   // second differences (noise: ~sqrt(6) sigma_noise), where the gamma sigma box stays.
-  // Measured (README, item 6 and "Slow motion"; 96 px corpus): moving object at 90 Hz 0.845
-  // of none's RMSE against 0.969 without it (0 cases above none against 4, worst frame 1.08x
+  // Measured (README item 6, docs/evaluation-scenes.md "Slow motion"; 96 px corpus): moving object at 90 Hz
+  // 0.845 of none's RMSE against 0.969 without it (0 cases above none against 4, worst frame 1.08x
   // against 1.21x); corpus at 30 Hz 0.674 against 0.676; the astronaut photo +1.6 % and the noisy
   // scene +4.8 % (a per-pixel second difference is a noisy estimate of c'': where it is small by
   // chance the box narrows). On because the promise (never worse than none) broke at VR app rates
