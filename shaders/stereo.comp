@@ -21,7 +21,8 @@ const float kFootprintVarPx2 = 1.0 / 6.0;
 // spread. A displacement of variance v errs by about |grad|^2 v on a locally linear signal, so
 // |grad|^2 cancels: equal counts and an exact tap give 1/2. With the tap's curvature term taken
 // off (stereoTapCurvature), f(1-f) stays as the bound of what that second-order correction misses
-// (texture near the sampling limit).
+// (texture near the sampling limit). Measured at full weight against 1/4 and 0 (docs/method-history.md,
+// round 9): the lighter bounds raise RMSE in 14 and 22 corpus cases.
 float stereoBeta(vec3 x, vec3 mn, float sigma2, ivec2 o, float otherAlpha, vec2 q) {
   vec3 d = x - mn;
   float e = dot(d, d) * (1.0 / 3.0) + sigma2;
