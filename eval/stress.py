@@ -194,8 +194,8 @@ def judge(case, out_dir):
     v["recovery_undecided"] = not v["recovered"] and v["recovery_ok"]
     v["ok"] = v["mean_ok"] and v["worst_ok"] and v["recovery_ok"]
     # A frame miss where the default is no worse than its own median is none's luck, not a ghost
-    # (docs/evaluation-corpus.md, pixel density: the grid falls on the picture's phase and none is nearly exact). Reported
-    # apart, still a miss by the target's letter.
+    # (docs/evaluation-corpus.md, pixel density: the grid falls on the picture's phase and none is
+    # nearly exact). Reported apart, still a miss by the target's letter.
     v["lucky_none"] = not v["worst_ok"] and v.get("default_vs_median", 2.0) <= 1.0
     if (out_dir / "overlay.csv").exists():  # head-locked content: its pixels and the world ring around it
         for part in ("core", "border"):
@@ -237,10 +237,12 @@ def print_table(cases):
         rec = f"{v['recovery']}{'' if v['recovered'] else '+'}"
         flags = [name for name, ok in (("MEAN", v["mean_ok"]), ("FRAME", v["worst_ok"]),
                                        ("RECOVERY", v["recovery_ok"])) if not ok]
-        why = " (recovery undecided: the run ends)" if v["recovery_undecided"] else ""
+        why = ""
         if not v["worst_ok"] and "none_vs_median" in v:
             why = (f" ({'none lucky' if v['lucky_none'] else 'default rose'}: default {v['default_vs_median']:.2f}x"
                    f" its median, none {v['none_vs_median']:.2f}x)")
+        if v["recovery_undecided"]:
+            why += " (recovery undecided: the run ends)"
         extra = ("u" if c["unorm"] else "-") + "/" + (f"{c['noise']:.2f}" if c["noise"] > 0 else "-")
         print(f"{c['name']:9} {c['scene']:12} {c['resolution']:>3} {c['ppd']:>3g} {c['app_hz']:>2g}"
               f" {'y' if c['mipmaps'] else 'n':>3} {c['frames']:>2} {extra:>6}  {describe_picture(c)[:34]:34}"
