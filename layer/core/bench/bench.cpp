@@ -41,21 +41,23 @@ struct Options {
 };
 
 void usage() {
-  std::cout << "usage: steadyxr-bench [--sizes WxH[,WxH...]] [--methods m1,m2,...] [--iterations N]\n"
-               "                      [--warmup N] [--format srgb8|unorm8|rgba16f] [--csv FILE]\n"
-               "                      [--block auto|1x1|4x4]\n"
-               "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to (measured\n"
-               "first and last at each size; the faster of the two is used). A method may end in\n"
-               "@history=16 or @history=8 (the history's bits per channel, Params::historyFormat).\n"
-               "'model' is the traffic model's bytes per pixel of one eye (traffic_model.h) and its\n"
-               "ratio to the copy's; 'ops' its fetches+samples+stores per pixel. <method>@catmull: the\n"
-               "method with the Catmull-Rom history. @blend: the far plane at the nearest depth, so\n"
-               "that steady+stereo blends without depth (else it skips the pass: the disparity's\n"
-               "spread exceeds a pixel); @tapcurv=0: stereo without the tap's curvature correction;\n"
-               "@curvbox, @curvbox=0: steady's clip box bounded by second differences or not "
-               "(steadyClipCurvature); @curvcentre, @curvcentre=0, @quantsrgb, @quantsrgb=0: the\n"
-               "one-sided curvature box and the sRGB quantisation floor, or not\n"
-               "(steadyClipCurvatureCentred, steadyClipQuantSrgb).\n";
+  std::cout
+      << "usage: steadyxr-bench [--sizes WxH[,WxH...]] [--methods m1,m2,...] [--iterations N]\n"
+         "                      [--warmup N] [--format srgb8|unorm8|rgba16f] [--csv FILE]\n"
+         "                      [--block auto|1x1|4x4]\n"
+         "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to (measured\n"
+         "first and last at each size; the faster of the two is used). A method may end in\n"
+         "@history=16 or @history=8 (the history's bits per channel, Params::historyFormat).\n"
+         "'model' is the traffic model's bytes per pixel of one eye (traffic_model.h) and its\n"
+         "ratio to the copy's; 'ops' its fetches+samples+stores per pixel. <method>@catmull: the\n"
+         "method with the Catmull-Rom history. @blend: the far plane at the nearest depth, so\n"
+         "that steady+stereo blends without depth (else it skips the pass: the disparity's\n"
+         "spread exceeds a pixel); @tapcurv=0: stereo without the tap's curvature correction;\n"
+         "@curvbox, @curvbox=0: steady's clip box bounded by second differences or not "
+         "(steadyClipCurvature); @curvcentre, @curvcentre=0, @quantsrgb, @quantsrgb=0: the\n"
+         "one-sided curvature box and the sRGB quantisation floor, or not\n"
+         "(steadyClipCurvatureCentred, steadyClipQuantSrgb); @curvgate, @curvgate=0: the one-sided\n"
+         "box only where the history lags on one side, or everywhere (steadyClipCurvatureCentredGated).\n";
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -274,6 +276,10 @@ std::optional<Params> methodParams(const std::string& spec) {
       params->steadyClipCurvatureCentred = true;
     else if (suffix == "curvcentre=0")  // the default without it (round 6's box)
       params->steadyClipCurvatureCentred = false;
+    else if (suffix == "curvgate")  // round 10: the one-sided box only where the history lags one side
+      params->steadyClipCurvatureCentredGated = true;
+    else if (suffix == "curvgate=0")  // the default without the gate (round 7-9's box)
+      params->steadyClipCurvatureCentredGated = false;
     else if (suffix == "quantsrgb")  // the clip's floor half an sRGB step (Params; the default)
       params->steadyClipQuantSrgb = true;
     else if (suffix == "quantsrgb=0")  // the default with the linear floor (round 7's cost comparison)
