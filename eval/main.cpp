@@ -49,7 +49,8 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        hmax,wmin,wlb,amin,alpha,gamma,beta,ivbeta,tapcurv,sclip,d,catmull and steady's
                        floor,conf,reject,boxcur,curvbox,curvkappa,clip,blur,footprint,fpenc,
                        bluraxis,near,interp,jrecentre (jittered input), curvcentre,
-                       curvinner,quantsrgb (rounds 7-8: content changes), history=16|8
+                       curvinner,quantsrgb (rounds 7-8: content changes), curvgate (round 10),
+                       history=16|8
                        (the history's bits per channel) and dither=0|1 after history=8
                        (default: all + sweeps)
   --corpus             every motion preset over the corpus pictures and scenes, translating

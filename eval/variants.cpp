@@ -133,6 +133,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyClipCurvature = value != 0.0f;
     else if (key == "curvcentre")  // round 7, with curvbox=1: the curvature box one-sided
       params->steadyClipCurvatureCentred = value != 0.0f;
+    else if (key == "curvgate")  // round 10 (an option): one-sided only where the history lags one side
+      params->steadyClipCurvatureCentredGated = value != 0.0f;
     else if (key == "curvinner")  // with curvcentre=1: the interval's inner bound (0 < inner < kappa)
       params->steadyClipCurvatureInner = value;
     else if (key == "quantsrgb")  // the clip's floor half an sRGB step at the level (the default; =0: linear)
@@ -162,7 +164,7 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
           "unknown parameter '" + key +
           "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, tapcurv, sclip, d, catmull, floor, conf, "
           "reject, boxcur, curvbox, curvkappa, clip, blur, footprint, fpenc, bluraxis, jrecentre, near, "
-          "interp, history=16|8, dither after history=8)";
+          "interp, curvcentre, curvgate, curvinner, quantsrgb, history=16|8, dither after history=8)";
       return false;
     }
     v->sweep = true;

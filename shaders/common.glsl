@@ -32,8 +32,10 @@ layout(constant_id = 10) const bool kBlocked = true;     // temporal/stereo: 4x4
 // Catmull-Rom history sampling: its five taps decoded in line took llvmpipe twice as long to
 // compile, dead code included).
 layout(constant_id = 13) const int kHistoryEncoding = 0;
-// Steady's round-7 clip-box switches: bit0 the one-sided curvature box
-// (Params::steadyClipCurvatureCentred), bit1 the sRGB quantisation floor (Params::steadyClipQuantSrgb).
+// Steady's clip-box switches: bit0 the one-sided curvature box (Params::steadyClipCurvatureCentred),
+// bit1 the sRGB quantisation floor (Params::steadyClipQuantSrgb), bit2 the one-sided box only where
+// the history lags on one side, kept in the sign of the RGBA16F history's alpha
+// (Params::steadyClipCurvatureCentredGated).
 layout(constant_id = 14) const int kSteadyBoxSwitches = 0;
 
 layout(set = 0, binding = 0) uniform sampler2D uSrc0;    // current colour / this eye

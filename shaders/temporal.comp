@@ -169,6 +169,14 @@ void processPixel(ivec2 p, ivec2 o) {
     float iz;
     const bool confirmed = reproject(P.reproj[0], pc, invZ, q, iz) && historyValid;
     vec4 hs = sampleHistoryRgba(q);  // q is clamped into the image inside
+    // Params::steadyClipCurvatureCentredGated (an option, off): the sign of the history's alpha is the
+    // side of the current estimate its luma lay on last frame (negative: above). A history lagging
+    // content that changes in place stays on one side; one averaging aliased detail flips at random.
+    const bool sideGate = (kSteadyBoxSwitches & 4) != 0;
+    const bool historyWasAbove = sideGate && hs.a < 0.0;
+    hs.a = abs(hs.a);  // the count; where the tap mixed signs it reads lower (a safe direction)
+    const bool historyAbove = toYCoCg(hs.rgb).x > toYCoCg(fc).x;
+    const bool lagsOneSide = !sideGate || historyAbove == historyWasAbove;
     vec3 boxCentre = ymn;
     vec3 clipExt2 = P.clipGamma * P.clipGamma * yvar;
     // Params::steadyClipCurvature (the default): the box no wider than kappa (|cxx| + |cyy|),
@@ -182,8 +190,9 @@ void processPixel(ivec2 p, ivec2 o) {
       // Params::steadyClipCurvatureCentred (the default): per axis a static history lies
       // -s c'' from the 3x3 mean, s in [inner, kappa]: on one side. The box is that interval
       // (centre -(kappa + inner)/2 c'', half-width (kappa - inner)/2 |c''|) where it is narrower
-      // than gamma sigma; elsewhere the gamma sigma box about the mean.
-      if ((kSteadyBoxSwitches & 1) != 0) {
+      // than gamma sigma; elsewhere the gamma sigma box about the mean. With the gate, only where the
+      // history lags on one side; elsewhere the symmetric box.
+      if ((kSteadyBoxSwitches & 1) != 0 && lagsOneSide) {
         const float kappa = P.steadyClipCurvatureKappa, inner = P.steadyClipCurvatureInner;
         const vec3 halfWidth = 0.5 * (kappa - inner) * curvSum;
         const vec3 curvNarrower = step(halfWidth * halfWidth, clipExt2);  // 1 where the interval is
@@ -226,6 +235,7 @@ void processPixel(ivec2 p, ivec2 o) {
     // Select, not mix, when unconfirmed: a never-written history may hold NaN (and max(NaN, 0) is 0).
     result = confirmed ? max(fromYCoCg(mix(h, toYCoCg(cur), a)), vec3(0.0)) : cur;
     count = min(1.0 / a, cap);  // the samples the blend holds: n + 1, fewer where alpha was raised
+    count = sideGate && confirmed && historyAbove ? -count : count;  // this frame's side, for the next
   } else if (mode == kTaa) {
     vec2 q;
     float iz;

@@ -303,6 +303,7 @@ TEST_F(Cli, EverythingItWritesTheLayerAccepts) {
                                                    {"steady_clip_holds_current", "on"},
                                                    {"steady_clip_curvature", "on"},
                                                    {"steady_clip_curvature_centred", "on"},
+                                                   {"steady_clip_curvature_centred_gated", "on"},
                                                    {"steady_clip_quant_srgb", "on"},
                                                    {"stereo_inverse_variance", "off"},
                                                    {"stereo_tap_curvature", "off"},

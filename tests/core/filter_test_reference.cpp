@@ -125,6 +125,8 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   if (variant == "nocurvbox" || variant == "nocurvboxjitter") p.steadyClipCurvature = false;
   // Round 7: the one-sided curvature box is the default; these two keep the symmetric box checked.
   if (variant == "nocurvcentred" || variant == "nocurvcentredjitter") p.steadyClipCurvatureCentred = false;
+  // Round 10's option (off by default): the one-sided box only where the history lags on one side.
+  if (variant == "curvgate") p.steadyClipCurvatureCentredGated = true;
   if (variant == "wideclip") {  // steady's clip box is its own, not taa's
     p.steadyClipGamma = 2.0f;
     p.taaClipGamma = 0.5f;
@@ -195,7 +197,7 @@ INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
                                            "swaysummed", "interpolated", "rejectnoblur", "constant", "depth",
                                            "wideclip", "jitter", "jitterraw", "clipholdscurrent", "nocurvbox",
                                            "nocurvboxjitter", "nocurvcentred", "nocurvcentredjitter",
-                                           "srgbinput", "srgbinputlinearfloor"));
+                                           "curvgate", "srgbinput", "srgbinputlinearfloor"));
 
 namespace {
 // Pixels of `a` farther than `tolerance` from `b` in any channel.

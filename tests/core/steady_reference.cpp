@@ -24,8 +24,9 @@ vec3 fromYCoCg(vec3 y) {
   return {y.x + y.y - y.z, y.x + y.z, y.x - y.y - y.z};
 }
 
-// The history's sample count at q, resampled with the same filter as its colour.
-float countAt(const HostImage& hist, vec2 q, bool catmull) {
+// The history's alpha at q, resampled with the same filter as its colour: the sample count, signed
+// by round 10's side gate (negative where last frame's history lay above its estimate).
+float signedCountAt(const HostImage& hist, vec2 q, bool catmull) {
   HostImage a(hist.width, hist.height);
   for (size_t i = 0; i < a.px.size(); ++i) a.px[i] = vec4(vec3(hist.px[i].a), 1.0f);
   return catmull ? catmullRom5(a, q).r : bilinear(a, q).r;
@@ -120,6 +121,13 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
       float count = 1.0f;
       if (confirmed) {
         const vec3 h = toYCoCg(catmull ? catmullRom5(hist, q) : bilinear(hist, q));
+        // Round 10's option (off by default): the one-sided box only where the history's luma lies on the
+        // same side of this frame's estimate `area` as it did last frame (kept in the sign of the alpha).
+        const float signedCount = signedCountAt(hist, q, catmull);
+        const bool gated =
+            p.steadyClipCurvatureCentredGated && p.historyFormat == core::HistoryFormat::Rgba16f;
+        const bool above = h.x > toYCoCg(area).x;
+        const bool sameSideAsLastFrame = above == (signedCount < 0.0f);
         // t: how many (gamma sigma)'s the history lies outside the box, in its worst channel.
         // With steadyClipHoldsCurrent the box reaches, on the history's side, at least as far as the
         // current frame's own estimate `area` of the pixel.
@@ -137,7 +145,7 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
           if (p.steadyClipCurvature) {
             const float secondOrder = p.steadyClipCurvatureKappa * (std::abs(cxx[ch]) + std::abs(cyy[ch]));
             boxVar = std::min(boxVar, secondOrder * secondOrder);
-            if (p.steadyClipCurvatureCentred) {
+            if (p.steadyClipCurvatureCentred && (!gated || sameSideAsLastFrame)) {
               // A static history blurred by V per axis lies (V/2 - 1/3) c'' from the 3x3 mean, with
               // 1/3 - V/2 between inner and kappa: per axis the interval between -kappa c'' and
               // -inner c'', summed over x and y. It is the box where it is narrower than gamma sigma.
@@ -162,7 +170,7 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
           t = std::max(t, std::abs(h[ch] - centre[ch]) / box);
         }
         const vec3 clipped = t > 1.0f ? centre + (h - centre) / t : h;
-        float n = std::clamp(countAt(hist, q, catmull), 0.0f, maxCount);
+        float n = std::clamp(std::abs(signedCount), 0.0f, maxCount);
         if (t > 1.0f && p.steadyClipRejects) n /= t * t;
         float alpha = std::max(1.0f / (n + 1.0f), p.steadyAlphaFloor);
         if (p.steadyBlurBudgetPx2 > 0.0f) {
@@ -179,6 +187,7 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
         if (!p.steadyConfidence) alpha = p.taaAlpha;
         result = glm::max(fromYCoCg(glm::mix(clipped, toYCoCg(area), alpha)), vec3(0));
         count = std::min(1.0f / alpha, maxCount);
+        if (gated && p.steadyClipCurvature && p.steadyClipCurvatureCentred && above) count = -count;
       }
       out.at(x, y) = vec4(result, count);
     }

@@ -55,7 +55,8 @@ void usage() {
                "@curvbox, @curvbox=0: steady's clip box bounded by second differences or not "
                "(steadyClipCurvature); @curvcentre, @curvcentre=0, @quantsrgb, @quantsrgb=0: the\n"
                "one-sided curvature box and the sRGB quantisation floor, or not\n"
-               "(steadyClipCurvatureCentred, steadyClipQuantSrgb).\n";
+               "(steadyClipCurvatureCentred, steadyClipQuantSrgb); @curvgate: the one-sided box only\n"
+               "where the history lags on one side (steadyClipCurvatureCentredGated, an option).\n";
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -274,6 +275,10 @@ std::optional<Params> methodParams(const std::string& spec) {
       params->steadyClipCurvatureCentred = true;
     else if (suffix == "curvcentre=0")  // the default without it (round 6's box)
       params->steadyClipCurvatureCentred = false;
+    else if (suffix == "curvgate")  // round 10's option: the one-sided box where the history lags one side
+      params->steadyClipCurvatureCentredGated = true;
+    else if (suffix == "curvgate=0")  // the default
+      params->steadyClipCurvatureCentredGated = false;
     else if (suffix == "quantsrgb")  // the clip's floor half an sRGB step (Params; the default)
       params->steadyClipQuantSrgb = true;
     else if (suffix == "quantsrgb=0")  // the default with the linear floor (round 7's cost comparison)

@@ -220,7 +220,12 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
           // pipeline ~20 % slower with them behind uniform branches). The sRGB floor only where the
           // input is sRGB: UNORM input is filtered in its own codes, whose step is the linear floor.
           temporal ? (params.steadyClipCurvature && params.steadyClipCurvatureCentred ? 1 : 0) |
-                         (params.steadyClipQuantSrgb && sw.inputSrgb ? 2 : 0)
+                         (params.steadyClipQuantSrgb && sw.inputSrgb ? 2 : 0) |
+                         // Round 10's gate: its bit lives in the sign of the RGBA16F history's alpha.
+                         (params.steadyClipCurvature && params.steadyClipCurvatureCentred &&
+                                  params.steadyClipCurvatureCentredGated && sw.historyEncoding == 0
+                              ? 4
+                              : 0)
                    : 0};
 }
 

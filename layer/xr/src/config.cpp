@@ -116,6 +116,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_clip_holds_current", &core::Params::steadyClipHoldsCurrent},
     {"steady_clip_curvature", &core::Params::steadyClipCurvature},
     {"steady_clip_curvature_centred", &core::Params::steadyClipCurvatureCentred},
+    {"steady_clip_curvature_centred_gated", &core::Params::steadyClipCurvatureCentredGated},
     {"steady_clip_quant_srgb", &core::Params::steadyClipQuantSrgb},
     {"stereo_inverse_variance", &core::Params::stereoInverseVariance},
     {"stereo_tap_curvature", &core::Params::stereoTapCurvature},

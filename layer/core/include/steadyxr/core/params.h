@@ -135,6 +135,21 @@ struct Params {
   // cases. What it costs: accuracy on detail that is not smooth over three samples (sub-pixel
   // wires, 1-px lines, small text: three samples cannot tell a wire from a parabola). README item 7.
   bool steadyClipCurvatureCentred = true;
+  // Issue 14 round 10, an option, off (docs/method-history.md, "A temporal gate on item 7"): the
+  // one-sided box only where the history lags on one side.
+  // Content that changes in place leaves a history that stays on the same side of the current
+  // frame's estimate (luma) frame after frame; a history that averages aliased detail under head
+  // tremor falls on either side, as the frame's samples happen to land. So the one-sided box
+  // applies where the history's luma lies on the same side of the footprint estimate as last
+  // frame, elsewhere the symmetric box of steadyClipCurvature. The side is the sign of the
+  // history's alpha (negative: above), no memory of its own; where the bilinear tap mixes signs the
+  // count it reads comes out lower, the safe direction. RGBA16F history only (the 8-bit alpha has
+  // no sign: there the box is one-sided everywhere). What it wins: most of the accuracy the
+  // one-sided box cost on aliased detail (corpus 0.678 of none's against 0.702). Why it is off by
+  // default: the first frame of a change cannot be told from aliasing by this bit, and 24 fps video at
+  // 90 Hz makes every content frame a first frame (9 of 90 content cases with a frame above 1.10x
+  // none's). For apps that show no video.
+  bool steadyClipCurvatureCentredGated = false;
   // inner: 1/3 - V_max/2 with V_max = 5/12, the blurriest static history (kappa's comment): 1/8.
   float steadyClipCurvatureInner = 1.0f / 8.0f;
   // Issue 14 round 8 (the default; round 7 measured it with an exact pow, off): the clip box's floor
