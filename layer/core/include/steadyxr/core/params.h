@@ -148,7 +148,8 @@ struct Params {
   // one-sided box cost on aliased detail (corpus 0.678 of none's against 0.702). Why it is off by
   // default: the first frame of a change cannot be told from aliasing by this bit, and 24 fps video at
   // 90 Hz makes every content frame a first frame (9 of 90 content cases with a frame above 1.10x
-  // none's). For apps that show no video.
+  // none's), and a head-locked HUD is content that moves in place too (held out: frames up to 1.21x).
+  // For apps without video or a HUD drawn into the eye images.
   bool steadyClipCurvatureCentredGated = false;
   // inner: 1/3 - V_max/2 with V_max = 5/12, the blurriest static history (kappa's comment): 1/8.
   float steadyClipCurvatureInner = 1.0f / 8.0f;
