@@ -27,7 +27,8 @@ float stereoBeta(vec3 x, vec3 mn, float sigma2, ivec2 o, float otherAlpha, vec2 
   vec3 d = x - mn;
   float e = dot(d, d) * (1.0 / 3.0) + sigma2;
   float betaEq4 = clamp(e > 1e-12 ? 1.0 - sigma2 / e : 0.0, P.stereoBetaMin, 1.0);
-  float countThis = max(abs(gAlpha[o.y * kBlockW + o.x]) * P.stereoSampleCountScale, 1.0);  // the sign: steady's side gate
+  // abs: steady's side gate keeps a sign in its count (Params::steadyClipCurvatureCentredGated).
+  float countThis = max(abs(gAlpha[o.y * kBlockW + o.x]) * P.stereoSampleCountScale, 1.0);
   float countOther = max(abs(otherAlpha) * P.stereoSampleCountScale, 1.0);
   vec2 f = fract(q - 0.5);  // the bilinear tap's offset within the texel
   float varThis = kFootprintVarPx2 / countThis;

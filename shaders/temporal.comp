@@ -175,7 +175,8 @@ void processPixel(ivec2 p, ivec2 o) {
     const bool sideGate = (kSteadyBoxSwitches & 4) != 0;
     const bool historyWasAbove = sideGate && hs.a < 0.0;
     hs.a = abs(hs.a);  // the count; where the tap mixed signs it reads lower (a safe direction)
-    const bool historyAbove = toYCoCg(hs.rgb).x > toYCoCg(fc).x;
+    const vec3 historyYCoCg = toYCoCg(hs.rgb), estimateYCoCg = toYCoCg(fc);
+    const bool historyAbove = historyYCoCg.x > estimateYCoCg.x;
     const bool lagsOneSide = !sideGate || historyAbove == historyWasAbove;
     vec3 boxCentre = ymn;
     vec3 clipExt2 = P.clipGamma * P.clipGamma * yvar;
@@ -210,10 +211,10 @@ void processPixel(ivec2 p, ivec2 o) {
     const float srgbSlope2 = max(4.0 * max(ymn.x, 0.0), 1.0 / (12.92 * 12.92));
     const float floorSlope2 = (kSteadyBoxSwitches & 2) != 0 ? srgbSlope2 : 1.0;
     clipExt2 += kQuantVar * floorSlope2;
-    vec3 d = toYCoCg(hs.rgb) - boxCentre;
+    vec3 d = historyYCoCg - boxCentre;
     // Params::steadyClipHoldsCurrent (not the default): the box reaches out, on the history's side
     // and per channel, to the current frame's own estimate of the pixel's area average (fc).
-    vec3 toCur = toYCoCg(fc) - boxCentre;
+    vec3 toCur = estimateYCoCg - boxCentre;
     clipExt2 = max(clipExt2, step(vec3(0.0), d * toCur) * toCur * toCur * P.steadyClipHoldsCurrent);
     vec3 t2v = d * d / clipExt2;
     float t2 = max(t2v.x, max(t2v.y, t2v.z));

@@ -211,6 +211,7 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
   const bool writeOut = sw.writeOutput;
   const bool jittered =
       params.jitteredInput || d.uniforms.jitterPx.x != 0.0f || d.uniforms.jitterPx.y != 0.0f;
+  const bool oneSidedBox = params.steadyClipCurvature && params.steadyClipCurvatureCentred;
   return {temporal ? sw.mode : 0, temporal ? std::max(sw.sampleCount, 1) : 1, writeOut ? 1 : 0,
           sw.writeHistory ? 1 : 0, writeOut && sw.encodeSrgb ? 1 : 0, writeOut && sw.swapRedBlue ? 1 : 0,
           sw.depthBits, (d.io.src0.clean ? 1 : 0) | (d.io.src1.clean ? 2 : 0), temporal && jittered ? 1 : 0,
@@ -219,14 +220,11 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
           // Round 7's clip-box switches, compiled in only where on (lavapipe runs the default's
           // pipeline ~20 % slower with them behind uniform branches). The sRGB floor only where the
           // input is sRGB: UNORM input is filtered in its own codes, whose step is the linear floor.
-          temporal ? (params.steadyClipCurvature && params.steadyClipCurvatureCentred ? 1 : 0) |
-                         (params.steadyClipQuantSrgb && sw.inputSrgb ? 2 : 0) |
-                         // Round 10's gate: its bit lives in the sign of the RGBA16F history's alpha.
-                         (params.steadyClipCurvature && params.steadyClipCurvatureCentred &&
-                                  params.steadyClipCurvatureCentredGated && sw.historyEncoding == 0
-                              ? 4
-                              : 0)
-                   : 0};
+          temporal
+              ? (oneSidedBox ? 1 : 0) | (params.steadyClipQuantSrgb && sw.inputSrgb ? 2 : 0) |
+                    // Round 10's gate: its bit lives in the sign of the RGBA16F history's alpha.
+                    (oneSidedBox && params.steadyClipCurvatureCentredGated && sw.historyEncoding == 0 ? 4 : 0)
+              : 0};
 }
 
 }  // namespace steadyxr::core::detail
