@@ -106,6 +106,8 @@ def judge_run(name, out_dir, methods):
                 "worst_ratio": worst,
                 "worst_frame": int(r["ghost_worst_frame"]),
                 "recovery_miss": recovery > RECOVERY_LIMIT,
+                # as stress.py: the run ended within the limit, still above none (neither met nor missed)
+                "recovery_undecided": r["recovered"] != "1" and recovery <= RECOVERY_LIMIT,
             }
             v["frame_miss"] = worst > WORST_FRAME_LIMIT
             v["lucky_none"] = v["frame_miss"] and lucky_none(frames[(case, m)], v["worst_frame"])
@@ -152,12 +154,14 @@ def main(argv):
             "frame_misses": sum(v["frame_miss"] for v in vs),
             "frame_misses_lucky_none": sum(v["lucky_none"] for v in vs),
             "recovery_misses": sum(v["recovery_miss"] for v in vs),
+            "recovery_undecided": sum(v["recovery_undecided"] for v in vs),
             "broken": [v["case"] for v in broken],
         }
         s = summary[m]
         print(f"{m}: {s['cases']} cases, mean {s['mean_ratio']:.3f} of none's, {s['above_none']} above none, "
               f"{s['frame_misses']} with a frame above {WORST_FRAME_LIMIT:.2f}x ({s['frame_misses_lucky_none']} "
-              f"none's luck), {s['recovery_misses']} recovery misses")
+              f"none's luck), {s['recovery_misses']} recovery misses ({s['recovery_undecided']} undecided at the "
+              "run's end)")
     (args.out / "summary.json").write_text(json.dumps(summary, indent=1))
     failed = [m for m in args.check if summary[m]["broken"]]
     for m in failed:

@@ -24,12 +24,17 @@ vec3 fromYCoCg(vec3 y) {
   return {y.x + y.y - y.z, y.x + y.z, y.x - y.y - y.z};
 }
 
-// The history's alpha at q, resampled with the same filter as its colour: the sample count, signed
-// by round 10's side gate (negative where last frame's history lay above its estimate).
-float signedCountAt(const HostImage& hist, vec2 q, bool catmull) {
+// The history's alpha in every channel, so that it resamples with the same filters as its colour.
+HostImage alphaImage(const HostImage& hist) {
   HostImage a(hist.width, hist.height);
   for (size_t i = 0; i < a.px.size(); ++i) a.px[i] = vec4(vec3(hist.px[i].a), 1.0f);
-  return catmull ? catmullRom5(a, q).r : bilinear(a, q).r;
+  return a;
+}
+
+// The history's alpha at q (`alphas`: alphaImage of the history): the sample count, signed by
+// round 10's side gate (negative where last frame's history lay above its estimate).
+float signedCountAt(const HostImage& alphas, vec2 q, bool catmull) {
+  return catmull ? catmullRom5(alphas, q).r : bilinear(alphas, q).r;
 }
 
 // The weights of three point samples at positions x[0..2] (px from the pixel centre) whose
@@ -71,6 +76,7 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
                            ? RefView{core::interpolatePose(prev.pose, now.pose, p.sampleD[0]), prev.fov}
                            : prev;
   const float maxCount = 1.0f / p.steadyAlphaFloor;
+  const HostImage alphas = alphaImage(hist);                 // once per frame, not per pixel
   const float quantVar = (0.5f / 255.0f) * (0.5f / 255.0f);  // half an 8-bit step, squared
   for (uint32_t y = 0; y < cur.height; ++y)
     for (uint32_t x = 0; x < cur.width; ++x) {
@@ -123,7 +129,7 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
         const vec3 h = toYCoCg(catmull ? catmullRom5(hist, q) : bilinear(hist, q));
         // Round 10's option (off by default): the one-sided box only where the history's luma lies on the
         // same side of this frame's estimate `area` as it did last frame (kept in the sign of the alpha).
-        const float signedCount = signedCountAt(hist, q, catmull);
+        const float signedCount = signedCountAt(alphas, q, catmull);
         const bool gated =
             p.steadyClipCurvatureCentredGated && p.historyFormat == core::HistoryFormat::Rgba16f;
         const bool above = h.x > toYCoCg(area).x;
