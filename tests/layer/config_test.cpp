@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
+#include <sstream>
 
 namespace steadyxr::layer {
 namespace {
@@ -165,6 +167,37 @@ TEST(Config, SteadyKeys) {
   EXPECT_TRUE(mentions(messages, "steady_clip_gamma", "0"));
   EXPECT_TRUE(mentions(messages, "steady_footprint", "0.5"));
   EXPECT_TRUE(mentions(messages, "steady_confidence", "maybe"));
+}
+
+// The example file the package installs (layer/xr/steadyxr.conf.example) is read as the layer reads
+// it, as shipped and with every commented "# key = value" line switched on: an example with a wrong
+// key or value would teach users a setting the layer refuses.
+TEST(Config, TheShippedExampleParsesWithEveryCommentedSettingOn) {
+  std::string error;
+  const std::optional<std::string> example = readConfigFile(STEADYXR_EXAMPLE_CONFIG, &error);
+  ASSERT_TRUE(example.has_value()) << error;
+  std::vector<std::string> messages;
+  resolveConfig(parseConfigText(*example, &messages), "HelloXR", envOf({}), &messages);
+  EXPECT_TRUE(messages.empty()) << (messages.empty() ? "" : messages[0]);
+
+  const std::regex commentedSetting(R"(^# ([a-z0-9_]+ = .*)$)");
+  std::istringstream lines(*example);
+  std::string line, uncommented;
+  int switchedOn = 0;
+  while (std::getline(lines, line)) {
+    std::smatch m;
+    if (std::regex_match(line, m, commentedSetting)) {
+      line = m[1].str();
+      ++switchedOn;
+    }
+    uncommented += line + "\n";
+  }
+  EXPECT_GE(switchedOn, 10);
+  const Config c = resolveConfig(parseConfigText(uncommented, &messages), "HelloXR", envOf({}), &messages);
+  EXPECT_TRUE(messages.empty()) << (messages.empty() ? "" : messages[0]);
+  // The HUD setting under [HelloXR] (README, "An app that draws its HUD into the eye images").
+  EXPECT_FLOAT_EQ(c.params.steadyBlurBudgetPx2, 0.0104f);
+  EXPECT_TRUE(c.params.steadyClipHoldsCurrent);
 }
 
 TEST(Config, FileSearchOrder) {
