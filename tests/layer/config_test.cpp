@@ -193,6 +193,7 @@ TEST(Config, TheShippedExampleParsesWithEveryCommentedSettingOn) {
     uncommented += line + "\n";
   }
   EXPECT_GE(switchedOn, 10);
+  messages.clear();
   const Config c = resolveConfig(parseConfigText(uncommented, &messages), "HelloXR", envOf({}), &messages);
   EXPECT_TRUE(messages.empty()) << (messages.empty() ? "" : messages[0]);
   // The HUD setting under [HelloXR] (README, "An app that draws its HUD into the eye images").

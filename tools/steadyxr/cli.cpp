@@ -53,9 +53,9 @@ keys: enabled, method (none, fxaa, taa, hmtaa, vtaa, hybrid, stereo, <temporal>+
 default), pose_source, imu_device, log_level, log_file, dump_frames, dump_dir, jitter,
 taa_alpha, taa_clip_gamma, h_max, w_min, w_lb, sample_count, vtaa_alpha_min, stereo_far_m,
 stereo_depth_tolerance, stereo_beta_min, reset_angle_deg, reset_translation_m, history_filter,
-history_format, and the steady_* and stereo_* pass keys (layer/xr/README.md), e.g. for an app that
-draws a HUD into its eye images `set --app NAME steady_blur_budget_px2=0.0104
-steady_clip_holds_current=1` (README: a HUD in the eye images).
+history_format, and the steady_* and stereo_* pass keys (layer/xr/README.md). For an app that
+draws a HUD into its eye images: `set --app NAME steady_blur_budget_px2=0.0104
+steady_clip_holds_current=1` (README: "An app that draws its HUD into the eye images").
 
 exit status: 0 done, 1 error (config untouched), 2 usage error.
 )";
