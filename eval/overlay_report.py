@@ -8,11 +8,13 @@ none's RMSE floored at half an 8-bit step's RMSE as eval/metrics.h does). Exit s
 method named by --check breaks the promise on either (mean above none, a frame above --limit).
 
   python3 eval/overlay_report.py OUT [OUT ...] [--check default] [--limit 1.10]
+  python3 eval/overlay_report.py STRESS_OUT/runs/* --column rmse_border   # a stress draw's HUD cases
 """
 
 import argparse
 import csv
 import math
+import os
 import sys
 from collections import defaultdict
 
@@ -47,7 +49,12 @@ def main(argv):
                         "pixels), rmse_border (the one-pixel ring of world pixels around it)")
     args = p.parse_args(argv)
     rows = []
-    for d in args.dirs:
+    # A stress draw's runs (OUT/runs/*) mix head-locked cases with others: only folders that have an
+    # overlay.csv are read.
+    skipped = [d for d in args.dirs if not os.path.exists(f"{d}/overlay.csv")]
+    if skipped:
+        print(f"skipped {len(skipped)} folder(s) without overlay.csv (no head-locked content)", file=sys.stderr)
+    for d in (d for d in args.dirs if d not in skipped):
         whole = read_series(f"{d}/timeseries.csv", "rmse")
         overlay = read_series(f"{d}/overlay.csv", args.column)
         for (case, method), frames in sorted(overlay.items()):

@@ -37,4 +37,12 @@ for column in ("rmse_core",):
     assert check.returncode == 0, f"the default breaks the promise on {column}:\n{check.stdout}{check.stderr}"
 border = subprocess.run([sys.executable, report, out, "--column", "rmse_border"], capture_output=True, text=True)
 print("the world ring around the overlay (reported, not asserted):\n" + border.stdout)
+# A stress draw's runs mix head-locked cases with others (OUT/runs/*): a folder without overlay.csv is
+# skipped and said, and the report is the same.
+no_overlay = os.path.join(out, "no-overlay")
+os.makedirs(no_overlay, exist_ok=True)
+mixed = subprocess.run([sys.executable, report, no_overlay, out, "--column", "rmse_border"], capture_output=True,
+                       text=True)
+assert mixed.returncode == 0 and mixed.stdout == border.stdout, f"a folder without overlay.csv:\n{mixed.stderr}"
+assert "skipped 1 folder" in mixed.stderr, mixed.stderr
 print("ok")
