@@ -51,10 +51,11 @@ def main(argv):
     rows = []
     # A stress draw's runs (OUT/runs/*) mix head-locked cases with others: only folders that have an
     # overlay.csv are read.
-    skipped = [d for d in args.dirs if not os.path.exists(f"{d}/overlay.csv")]
-    if skipped:
-        print(f"skipped {len(skipped)} folder(s) without overlay.csv (no head-locked content)", file=sys.stderr)
-    for d in (d for d in args.dirs if d not in skipped):
+    with_overlay = [d for d in args.dirs if os.path.exists(f"{d}/overlay.csv")]
+    if len(with_overlay) < len(args.dirs):
+        print(f"skipped {len(args.dirs) - len(with_overlay)} folder(s) without overlay.csv (no head-locked content)",
+              file=sys.stderr)
+    for d in with_overlay:
         whole = read_series(f"{d}/timeseries.csv", "rmse")
         overlay = read_series(f"{d}/overlay.csv", args.column)
         for (case, method), frames in sorted(overlay.items()):
