@@ -199,6 +199,23 @@ TEST_F(Cli, Unset) {
   EXPECT_EQ(layerSees("app")->method, "default");
 }
 
+// A profile is set as any key, refused by name when it is none, and shown with what it sets.
+TEST_F(Cli, ProfilesAreSetCheckedAndShown) {
+  ASSERT_EQ(cli({"set", "--app", "game", "profile=hud"}), 0) << err_.str();
+  EXPECT_EQ(read(conf()), "[game]\nprofile = hud\n");
+  EXPECT_FLOAT_EQ(layerSees("game")->params.steadyBlurBudgetPx2, 0.0104f);
+  EXPECT_EQ(layerSees("other")->profile, "default");
+  ASSERT_EQ(cli({"show", "--app", "game"}), 0) << err_.str();
+  EXPECT_NE(
+      out_.str().find("  profile = hud (steady_blur_budget_px2 = 0.0104, steady_clip_holds_current = 1, "
+                      "unless set)\n"),
+      std::string::npos)
+      << out_.str();
+  EXPECT_EQ(cli({"set", "profile=cinema"}), 1);
+  EXPECT_NE(err_.str().find("expected default, hud or world-only"), std::string::npos) << err_.str();
+  EXPECT_EQ(read(conf()), "[game]\nprofile = hud\n");
+}
+
 TEST_F(Cli, Show) {
   write(conf(), "method = taa\nw_min = 9\n[hello_xr]\nmethod = none\n");
   vars_["STEADYXR_LOG_LEVEL"] = "debug";
@@ -279,6 +296,7 @@ TEST_F(Cli, EverythingItWritesTheLayerAccepts) {
                                                    {"sample_count", "2"},
                                                    {"history_filter", "catmull-rom"},
                                                    {"history_format", "rgba8"},
+                                                   {"profile", "world-only"},
                                                    {"taa_alpha", "0.2"},
                                                    {"taa_clip_gamma", "1.5"},
                                                    {"h_max", "30"},

@@ -196,9 +196,65 @@ TEST(Config, TheShippedExampleParsesWithEveryCommentedSettingOn) {
   messages.clear();
   const Config c = resolveConfig(parseConfigText(uncommented, &messages), "HelloXR", envOf({}), &messages);
   EXPECT_TRUE(messages.empty()) << (messages.empty() ? "" : messages[0]);
-  // The HUD setting under [HelloXR] (README, "An app that draws its HUD into the eye images").
+  // The HUD profile under [HelloXR] (README, "Profiles for kinds of app").
+  EXPECT_EQ(c.profile, "hud");
   EXPECT_FLOAT_EQ(c.params.steadyBlurBudgetPx2, 0.0104f);
   EXPECT_TRUE(c.params.steadyClipHoldsCurrent);
+}
+
+// A profile sets defaults for a kind of app; a key the user sets anywhere wins over it, and a
+// profile named in a later place (an app's section, the environment) replaces an earlier one.
+TEST(Config, ProfilesSetDefaultsThatEveryKeyTheUserSetsOverrides) {
+  const steadyxr::core::Params defaults;
+  std::vector<std::string> messages;
+  const auto resolve = [&](const std::string& text, const std::map<std::string, std::string>& env) {
+    messages.clear();
+    return resolveConfig(parseConfigText(text, &messages), "app", envOf(env), &messages);
+  };
+  // Each profile's own values are ones the layer takes (profiles are applied without messages).
+  for (const char* name : {"default", "hud", "world-only"}) {
+    const auto settings = profileSettings(name);
+    ASSERT_TRUE(settings.has_value()) << name;
+    for (const ProfileSetting& p : *settings)
+      EXPECT_EQ(checkSetting(p.key, p.value), "") << name << ": " << p.key;
+  }
+
+  Config c = resolve("[app]\nprofile = hud\n", {});
+  EXPECT_TRUE(messages.empty()) << (messages.empty() ? "" : messages[0]);
+  EXPECT_EQ(c.profile, "hud");
+  EXPECT_FLOAT_EQ(c.params.steadyBlurBudgetPx2, 0.0104f);
+  EXPECT_TRUE(c.params.steadyClipHoldsCurrent);
+  EXPECT_FALSE(c.params.steadyClipCurvatureCentredGated);
+  EXPECT_EQ(resolve("[other]\nprofile = hud\n", {}).profile, "default");  // another app's section
+
+  // A profile in the app's section wins over the global part's keys and loses to the section's.
+  c = resolve(
+      "steady_blur_budget_px2 = 0.05\nsteady_alpha_floor = 0.125\n[app]\nprofile = HUD\n"
+      "steady_clip_holds_current = 0\n",
+      {});
+  EXPECT_EQ(c.profile, "hud");
+  EXPECT_FLOAT_EQ(c.params.steadyBlurBudgetPx2, 0.0104f);
+  EXPECT_FLOAT_EQ(c.params.steadyAlphaFloor, 0.125f);  // a key the profile does not set stays
+  EXPECT_FALSE(c.params.steadyClipHoldsCurrent);
+  // In the global part, the profile loses to the same part's keys, wherever the line is.
+  c = resolve("steady_blur_budget_px2 = 0.05\nprofile = hud\n", {});
+  EXPECT_FLOAT_EQ(c.params.steadyBlurBudgetPx2, 0.05f);
+  EXPECT_TRUE(c.params.steadyClipHoldsCurrent);
+
+  // The environment's profile replaces the file's (hud's keys are not applied), its keys still win.
+  c = resolve("profile = hud\n",
+              {{"STEADYXR_PROFILE", "world-only"}, {"STEADYXR_STEADY_CLIP_HOLDS_CURRENT", "1"}});
+  EXPECT_EQ(c.profile, "world-only");
+  EXPECT_TRUE(c.params.steadyClipCurvatureCentredGated);
+  EXPECT_FLOAT_EQ(c.params.steadyBlurBudgetPx2, defaults.steadyBlurBudgetPx2);
+  EXPECT_TRUE(c.params.steadyClipHoldsCurrent);
+
+  // A name that is no profile: said in the user's words, and the default is used.
+  c = resolve("profile = hud\n[app]\nprofile = cinema\n", {});
+  EXPECT_EQ(c.profile, "default");
+  EXPECT_FLOAT_EQ(c.params.steadyBlurBudgetPx2, defaults.steadyBlurBudgetPx2);
+  EXPECT_TRUE(mentions(messages, "profile = cinema", "default, hud or world-only"));
+  EXPECT_NE(checkSetting("profile", "cinema"), "");
 }
 
 TEST(Config, FileSearchOrder) {

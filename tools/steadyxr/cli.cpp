@@ -53,9 +53,12 @@ keys: enabled, method (none, fxaa, taa, hmtaa, vtaa, hybrid, stereo, <temporal>+
 default), pose_source, imu_device, log_level, log_file, dump_frames, dump_dir, jitter,
 taa_alpha, taa_clip_gamma, h_max, w_min, w_lb, sample_count, vtaa_alpha_min, stereo_far_m,
 stereo_depth_tolerance, stereo_beta_min, reset_angle_deg, reset_translation_m, history_filter,
-history_format, and the steady_* and stereo_* pass keys (layer/xr/README.md). For an app that
-draws a HUD into its eye images: `set --app NAME steady_blur_budget_px2=0.0104
-steady_clip_holds_current=1` (README: "An app that draws its HUD into the eye images").
+history_format, profile, and the steady_* and stereo_* pass keys (layer/xr/README.md).
+
+profiles (`set --app NAME profile=hud`; a key set in the same or a more specific place wins):
+  hud         the app draws head-locked content (a HUD, a reticle) into its eye images
+  world-only  the app's eye images hold world content only: no video, no HUD (more accuracy)
+  default     no profile (README: "Profiles for kinds of app")
 
 exit status: 0 done, 1 error (config untouched), 2 usage error.
 )";
@@ -252,6 +255,16 @@ void printSettings(const layer::Config& c, std::ostream& out) {
   const layer::Config d;
   out << "  enabled = " << (c.enabled ? 1 : 0) << "\n";
   out << "  method = " << c.method << "\n";
+  if (c.profile != "default") {
+    out << "  profile = " << c.profile << " (";
+    const char* sep = "";
+    for (const layer::ProfileSetting& p :
+         layer::profileSettings(c.profile).value_or(std::vector<layer::ProfileSetting>{})) {
+      out << sep << p.key << " = " << p.value;
+      sep = ", ";
+    }
+    out << ", unless set)\n";
+  }
   out << "  pose_source = " << (c.poseSource == layer::PoseSourceKind::Imu ? "imu" : "runtime") << "\n";
   if (c.poseSource == layer::PoseSourceKind::Imu) out << "  imu_device = " << c.imuDevice << "\n";
   out << "  log_level = " << layer::toString(c.logLevel) << "\n";

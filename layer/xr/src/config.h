@@ -27,7 +27,10 @@ struct Config {
   std::string logFile;      // empty: standard error
   uint32_t dumpFrames = 0;  // first N frames' input and output eye images as PNG
   std::string dumpDir = "steadyxr-dump";
-  bool jitter = false;     // inject a Halton sub-pixel jitter into xrLocateViews' fov
+  bool jitter = false;  // inject a Halton sub-pixel jitter into xrLocateViews' fov
+  // A named set of pass settings for a kind of app (`profile = hud`; profileSettings). It only
+  // changes defaults: a key the user sets anywhere (file, app section, environment) wins over it.
+  std::string profile = "default";
   std::string configFile;  // the file the values came from (empty: none)
   // STEADYXR_ENABLED=0 or STEADYXR_DISABLE in the environment: the layer hooks nothing for the
   // whole process (no live switching). `enabled = 0` in the file only passes frames through,
@@ -67,6 +70,13 @@ ConfigText parseConfigText(std::string_view text, std::vector<std::string>* mess
 // `exists` is injectable for tests. Returns nullopt when none exists.
 std::optional<std::string> findConfigFile(const EnvLookup& env,
                                           const std::function<bool(const std::string&)>& exists);
+
+// The keys and values a profile sets ("default": none); nullopt for a name that is no profile.
+struct ProfileSetting {
+  const char* key;
+  const char* value;
+};
+std::optional<std::vector<ProfileSetting>> profileSettings(std::string_view name);
 
 // Global values, then the section named after the application, then STEADYXR_<KEY> environment
 // variables. Every bad value leaves the default and adds a message naming the key and default.

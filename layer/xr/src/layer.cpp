@@ -409,8 +409,10 @@ XRAPI_ATTR XrResult XRAPI_CALL createApiLayerInstance(const XrInstanceCreateInfo
         LogLevel::Info,
         std::string(kLayerName) + " loaded for '" + state->applicationName + "': " +
             (state->config.environmentDisabled ? std::string("disabled")
-             : state->config.enabled           ? "enabled, method " + state->config.method
-                                     : "loaded with enabled = 0 (frames pass through until it is 1)") +
+             : state->config.enabled
+                 ? "enabled, method " + state->config.method +
+                       (state->config.profile == "default" ? "" : ", profile " + state->config.profile)
+                 : "loaded with enabled = 0 (frames pass through until it is 1)") +
             (state->config.configFile.empty() ? "" : ", config " + state->config.configFile));
     if (!state->config.environmentDisabled) startLiveParts(*state);
     registry().addInstance(std::move(state));

@@ -67,6 +67,7 @@ std::string Session::statusText() const {
   os << "updated_unix_ms=" << unixMs() << "\n";
   os << "enabled=" << (liveEnabled_ ? 1 : 0) << "\n";
   os << "method=" << cfg.method << "\n";
+  os << "profile=" << cfg.profile << "\n";
   if (filter_) os << "passes=" << core::methodName(filter_->params()) << "\n";
   os << "state="
      << (!vulkanSession_ ? "not-vulkan"

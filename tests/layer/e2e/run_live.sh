@@ -5,7 +5,7 @@
 # Each phase is checked through the layer's own counters (its status file) and dumped frames:
 #
 #   A  method = none            output == input (dumped), frames filtered
-#   B  steadyxr set method=default dump_dir=...   applied live, output != input (dumped)
+#   B  steadyxr set method=default profile=hud dump_dir=...   applied live, output != input (dumped)
 #   C  enabled = 0 (rename)     frames_filtered stops, frames_disabled grows
 #   D  a bad edit (in place)    logged, the last good settings stay (still disabled)
 #   E  steadyxr set enabled=1 method=none dump_dir=...   filtering again, output == input
@@ -107,14 +107,15 @@ echo "[$phase] method=$(field method) frames_filtered=$(field frames_filtered)"
 # --- B: the CLI switches to the default method; dumps re-armed into a new folder.
 phase=B
 t=$(now_ms)
-"$cli" --config "$conf" set method=default "dump_dir=$dir/dump-b" >"$out/cli-b.txt" 2>&1 || fail "steadyxr set: $(cat "$out/cli-b.txt")"
-wait_for 10 '[[ $(field method) == default && $(field passes) == steady ]]' || fail "method default not applied"
+"$cli" --config "$conf" set method=default profile=hud "dump_dir=$dir/dump-b" >"$out/cli-b.txt" 2>&1 || fail "steadyxr set: $(cat "$out/cli-b.txt")"
+wait_for 10 '[[ $(field method) == default && $(field passes) == steady && $(field profile) == hud ]]' ||
+  fail "method default with profile hud not applied: method $(field method), profile $(field profile)"
 latency_b=$(applied_after "$t")
 base=$(field frames_filtered)
 wait_for 30 "[[ \$(field frames_filtered) -ge $((base + 10)) ]]" || fail "filtering stopped after the method change"
 wait_dump dump-b
 check_dump dump-b differ
-echo "[$phase] applied $latency_b ms after the write; method=$(field method) passes=$(field passes)"
+echo "[$phase] applied $latency_b ms after the write; method=$(field method) passes=$(field passes) profile=$(field profile)"
 
 # --- C: an editor's save (write a new file, rename it over the config) disables filtering.
 phase=C
