@@ -206,10 +206,9 @@ TEST_F(Cli, ProfilesAreSetCheckedAndShown) {
   EXPECT_FLOAT_EQ(layerSees("game")->params.steadyBlurBudgetPx2, 0.0104f);
   EXPECT_EQ(layerSees("other")->profile, "default");
   ASSERT_EQ(cli({"show", "--app", "game"}), 0) << err_.str();
-  EXPECT_NE(
-      out_.str().find("  profile = hud (steady_blur_budget_px2 = 0.0104, steady_clip_holds_current = 1, "
-                      "unless set)\n"),
-      std::string::npos)
+  EXPECT_NE(out_.str().find(
+                "  profile = hud (sets steady_blur_budget_px2 = 0.0104, steady_clip_holds_current = 1)\n"),
+            std::string::npos)
       << out_.str();
   EXPECT_EQ(cli({"set", "profile=cinema"}), 1);
   EXPECT_NE(err_.str().find("expected default, hud or world-only"), std::string::npos) << err_.str();

@@ -256,14 +256,14 @@ void printSettings(const layer::Config& c, std::ostream& out) {
   out << "  enabled = " << (c.enabled ? 1 : 0) << "\n";
   out << "  method = " << c.method << "\n";
   if (c.profile != "default") {
-    out << "  profile = " << c.profile << " (";
-    const char* sep = "";
+    out << "  profile = " << c.profile << " (sets";
+    const char* sep = " ";
     for (const layer::ProfileSetting& p :
-         layer::profileSettings(c.profile).value_or(std::vector<layer::ProfileSetting>{})) {
+         layer::profileSettings(c.profile).value_or(std::span<const layer::ProfileSetting>{})) {
       out << sep << p.key << " = " << p.value;
       sep = ", ";
     }
-    out << ", unless set)\n";
+    out << ")\n";
   }
   out << "  pose_source = " << (c.poseSource == layer::PoseSourceKind::Imu ? "imu" : "runtime") << "\n";
   if (c.poseSource == layer::PoseSourceKind::Imu) out << "  imu_device = " << c.imuDevice << "\n";

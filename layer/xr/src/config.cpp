@@ -421,11 +421,10 @@ std::string userConfigPath(const EnvLookup& env) {
   return base.empty() ? std::string() : base + "/steadyxr/steadyxr.conf";
 }
 
-std::optional<std::vector<ProfileSetting>> profileSettings(std::string_view name) {
-  if (name == "default") return std::vector<ProfileSetting>{};
-  if (name == "hud") return std::vector<ProfileSetting>(std::begin(kHudProfile), std::end(kHudProfile));
-  if (name == "world-only")
-    return std::vector<ProfileSetting>(std::begin(kWorldOnlyProfile), std::end(kWorldOnlyProfile));
+std::optional<std::span<const ProfileSetting>> profileSettings(std::string_view name) {
+  if (name == "default") return std::span<const ProfileSetting>{};
+  if (name == "hud") return kHudProfile;
+  if (name == "world-only") return kWorldOnlyProfile;
   return std::nullopt;
 }
 
@@ -456,7 +455,7 @@ Config resolveConfig(const ConfigText& text, std::string_view applicationName, c
   for (int place = 0; place < 3; ++place) {
     if (place == profilePlace) {
       MessageSink silent(nullptr);  // a profile's own values are valid (a test checks each)
-      for (const ProfileSetting& p : profileSettings(profile).value_or(std::vector<ProfileSetting>{}))
+      for (const ProfileSetting& p : profileSettings(profile).value_or(std::span<const ProfileSetting>{}))
         applyKey(c, p.key, p.value, {"profile " + profile, p.key}, silent);
     }
     if (place == 0) {

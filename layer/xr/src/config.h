@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -28,8 +29,8 @@ struct Config {
   uint32_t dumpFrames = 0;  // first N frames' input and output eye images as PNG
   std::string dumpDir = "steadyxr-dump";
   bool jitter = false;  // inject a Halton sub-pixel jitter into xrLocateViews' fov
-  // A named set of pass settings for a kind of app (`profile = hud`; profileSettings). It only
-  // changes defaults: a key the user sets anywhere (file, app section, environment) wins over it.
+  // A named set of pass settings for a kind of app (`profile = hud`; profileSettings), applied
+  // where it is named (resolveConfig).
   std::string profile = "default";
   std::string configFile;  // the file the values came from (empty: none)
   // STEADYXR_ENABLED=0 or STEADYXR_DISABLE in the environment: the layer hooks nothing for the
@@ -76,10 +77,12 @@ struct ProfileSetting {
   const char* key;
   const char* value;
 };
-std::optional<std::vector<ProfileSetting>> profileSettings(std::string_view name);
+std::optional<std::span<const ProfileSetting>> profileSettings(std::string_view name);
 
 // Global values, then the section named after the application, then STEADYXR_<KEY> environment
-// variables. Every bad value leaves the default and adds a message naming the key and default.
+// variables. The profile named in the most specific of the three counts as set there: its
+// settings go before that place's keys. Every bad value leaves the default and adds a message
+// naming the key and default.
 Config resolveConfig(const ConfigText& text, std::string_view applicationName, const EnvLookup& env,
                      std::vector<std::string>* messages);
 
