@@ -202,9 +202,10 @@ TEST(Config, TheShippedExampleParsesWithEveryCommentedSettingOn) {
   EXPECT_TRUE(c.params.steadyClipHoldsCurrent);
 }
 
-// A profile sets defaults for a kind of app; a key the user sets anywhere wins over it, and a
-// profile named in a later place (an app's section, the environment) replaces an earlier one.
-TEST(Config, ProfilesSetDefaultsThatEveryKeyTheUserSetsOverrides) {
+// A profile counts as set where it is named: it wins over keys of less specific places and loses
+// to keys of the same or a more specific place, and a profile named in a more specific place (an
+// app's section, the environment) replaces a less specific one.
+TEST(Config, ProfilesApplyWhereTheyAreNamed) {
   const steadyxr::core::Params defaults;
   std::vector<std::string> messages;
   const auto resolve = [&](const std::string& text, const std::map<std::string, std::string>& env) {

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -437,37 +438,38 @@ Config resolveConfig(const ConfigText& text, std::string_view applicationName, c
   // of less specific places and lose to keys of the same or a more specific place. A bad name is
   // reported with the other keys and means no profile.
   const auto section = text.sections.find(std::string(applicationName));
+  const bool hasSection = section != text.sections.end();
   std::map<std::string, std::string> environment;
   for (const std::string& key : knownConfigKeys()) {
     if (auto v = env(envNameForKey(key))) environment[key] = trim(*v);
   }
-  int profilePlace = -1;
+  const std::map<std::string, std::string> noKeys;
+  struct Place {
+    const std::map<std::string, std::string>& keys;
+    std::string where;
+  };
+  const std::array<Place, 3> places{
+      {{text.global, "config file"},
+       {hasSection ? section->second : noKeys, hasSection ? "config section [" + section->first + "]" : ""},
+       {environment, "environment"}}};
+  size_t profilePlace = places.size();
   std::string profile;
-  const auto findProfile = [&](const std::map<std::string, std::string>& keys, int place) {
-    if (auto it = keys.find("profile"); it != keys.end()) {
-      profilePlace = place;
+  for (size_t i = 0; i < places.size(); ++i) {
+    if (auto it = places[i].keys.find("profile"); it != places[i].keys.end()) {
+      profilePlace = i;
       profile = lower(it->second);
     }
-  };
-  findProfile(text.global, 0);
-  if (section != text.sections.end()) findProfile(section->second, 1);
-  findProfile(environment, 2);
-  for (int place = 0; place < 3; ++place) {
-    if (place == profilePlace) {
+  }
+  for (size_t i = 0; i < places.size(); ++i) {
+    if (i == profilePlace) {
       MessageSink silent(nullptr);  // a profile's own values are valid (a test checks each)
       for (const ProfileSetting& p : profileSettings(profile).value_or(std::span<const ProfileSetting>{}))
         applyKey(c, p.key, p.value, {"profile " + profile, p.key}, silent);
     }
-    if (place == 0) {
-      for (const auto& [k, v] : text.global) applyKey(c, k, v, {"config file", k}, sink);
-    } else if (place == 1 && section != text.sections.end()) {
-      for (const auto& [k, v] : section->second)
-        applyKey(c, k, v, {"config section [" + section->first + "]", k}, sink);
-    } else if (place == 2) {
-      for (const auto& [k, v] : environment) {
-        applyKey(c, k, v, {"environment", envNameForKey(k)}, sink);
-        if (k == "enabled" && !c.enabled) c.environmentDisabled = true;
-      }
+    const bool fromEnvironment = &places[i].keys == &environment;
+    for (const auto& [k, v] : places[i].keys) {
+      applyKey(c, k, v, {places[i].where, fromEnvironment ? envNameForKey(k) : k}, sink);
+      if (fromEnvironment && k == "enabled" && !c.enabled) c.environmentDisabled = true;
     }
   }
   // A plain off switch that needs no value syntax.
