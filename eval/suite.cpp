@@ -204,7 +204,15 @@ int runSuite(const Options& o) {
       return HeadPose{glm::normalize(m.orientation), m.position + scene.headOffset(t)};
     };
     std::vector<Accum> acc(variants.size());
+    // Uniform noise of amplitude F has the variance F^2 / 3 per channel (eval/shaders/scene.frag).
+    const float noiseAmplitude =
+        o.noise > 0.0f ? o.noise : scene.drawsAt(start, headAt(start)).noiseAmplitude;
     for (Variant& v : variants) {
+      if (v.filter && v.noiseOracle > 0.0f) {
+        core::Params told = v.params;
+        told.steadyNoiseVariance = v.noiseOracle * noiseAmplitude * noiseAmplitude / 3.0f;
+        v.filter->setParams(told);
+      }
       if (v.filter) v.filter->reset();
     }
     for (Oracle& oracle : oracles) oracle.reset();

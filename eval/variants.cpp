@@ -127,7 +127,15 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyConfidence = value != 0.0f;
     else if (key == "reject")
       params->steadyClipRejects = value != 0.0f;
-    else if (key == "boxcur")
+    else if (key == "noiseest")  // round 13 (the default): steady estimates the render's noise
+      params->steadyNoiseEstimate = value != 0.0f;
+    else if (key == "noisevar") {  // told instead: a variance per linear RGB channel, < 0: the scene's own
+      params->steadyNoiseEstimate = false;
+      if (value < 0.0f)
+        v->noiseOracle = -value;
+      else
+        params->steadyNoiseVariance = value;
+    } else if (key == "boxcur")
       params->steadyClipHoldsCurrent = value != 0.0f;
     else if (key == "curvbox")
       params->steadyClipCurvature = value != 0.0f;

@@ -16,8 +16,9 @@ struct Variant {
   core::Params params;
   int source = 1;  // 1 = the 1-sample render; 2 / 4 = MSAA
   bool sweep = false;
-  bool jitter = false;  // rendered with the layer's Halton(2,3) jitter, un-jittered by the core
-  bool oracle = false;  // the harness's CPU upper bound (oracle.h), no filter
+  bool jitter = false;       // rendered with the layer's Halton(2,3) jitter, un-jittered by the core
+  bool oracle = false;       // the harness's CPU upper bound (oracle.h), no filter
+  float noiseOracle = 0.0f;  // steady told the scene's true noise variance (noisevar=-1)
   std::unique_ptr<core::Filter> filter;
 };
 

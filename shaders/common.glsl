@@ -35,7 +35,8 @@ layout(constant_id = 13) const int kHistoryEncoding = 0;
 // Steady's clip-box switches: bit0 the one-sided curvature box (Params::steadyClipCurvatureCentred),
 // bit1 the sRGB quantisation floor (Params::steadyClipQuantSrgb), bit2 the one-sided box only where
 // the history lags on one side, kept in the sign of the RGBA16F history's alpha
-// (Params::steadyClipCurvatureCentredGated).
+// (Params::steadyClipCurvatureCentredGated), bit3 the box widened by the render's noise and bit4 the
+// histogram that estimates it (Params::steadyNoiseEstimate).
 layout(constant_id = 14) const int kSteadyBoxSwitches = 0;
 
 layout(set = 0, binding = 0) uniform sampler2D uSrc0;    // current colour / this eye
@@ -106,6 +107,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float stereoTapCurvature;      // stereo: 1 = the other eye's bilinear tap corrected by this eye's curvature
   float steadyClipCurvatureKappa;  // steady: > 0 = the clip box bounded by kappa (|cxx| + |cyy|); 0 = off
   float steadyClipCurvatureInner;  // steady (round 7): the one-sided curvature box's inner bound (spec bit0)
+  float steadyNoiseVariance;       // steady (round 13): the render's noise variance per linear RGB channel
 } P;
 
 vec3 sanitize(vec3 c) {

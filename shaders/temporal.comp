@@ -13,6 +13,15 @@ const int kSteady = 4;
 // Smallest clip extent, as a variance: half an 8-bit step squared. A flat 3x3 has sigma = 0, and
 // a history off by less than the input's own quantisation is no evidence of a wrong history.
 const float kQuantVar = (0.5 / 255.0) * (0.5 / 255.0);
+// Round 13 (Params::steadyNoiseEstimate, an option): the clip box widened by the render's noise
+// (kSteadyBoxSwitches bit 3) and the histogram that estimates it (bit 4; layer/core/src/noise_estimate.h,
+// the same constants).
+const bool kNoiseAware = kMode == 4 && (kSteadyBoxSwitches & 8) != 0;
+const bool kNoiseSampled = kMode == 4 && (kSteadyBoxSwitches & 16) != 0;
+const int kNoiseBins = 64;
+const float kNoiseBinsPerOctave = 4.0;
+const float kNoiseLowestLog2 = -16.0;
+layout(set = 0, binding = 9, std430) buffer NoiseHistogram { uint noiseBins[]; };
 
 vec3 toYCoCg(vec3 c) {
   return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b, -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
@@ -103,6 +112,23 @@ void recentredClipMoments(ivec2 o, out vec3 mean, out vec3 variance) {
   variance = max(m2 - m1 * m1, vec3(0.0));
 }
 
+// Round 13: one pixel in 16 (inside the image, off its edges: the 3x3 is all real) adds the luma's
+// x^2 y^2 contrast of its 3x3 (weights (1, -2, 1) x (1, -2, 1), norm 6), scaled to the noise's
+// standard deviation, to the frame's histogram (bin 0 below 2^kNoiseLowestLog2, then quarter
+// octaves). The host takes its median (noise_estimate.h).
+void recordNoiseSample(ivec2 p, ivec2 o) {
+  if (any(notEqual(p & 3, ivec2(2))) || any(greaterThanEqual(p + 1, P.src0Size))) return;
+  const vec3 lumaWeights = vec3(0.25, 0.5, 0.25);
+  const float corners = dot(blockAt(o, -1, -1) + blockAt(o, 1, -1) + blockAt(o, -1, 1) + blockAt(o, 1, 1),
+                            lumaWeights);
+  const float edges = dot(blockAt(o, 0, -1) + blockAt(o, -1, 0) + blockAt(o, 1, 0) + blockAt(o, 0, 1), lumaWeights);
+  const float centre = dot(blockAt(o, 0, 0), lumaWeights);
+  const float detail = abs(corners - 2.0 * edges + 4.0 * centre) * (1.0 / 6.0);
+  const float octaves = log2(max(detail, 1e-30)) - kNoiseLowestLog2;
+  const int bin = octaves < 0.0 ? 0 : min(int(kNoiseBinsPerOctave * octaves) + 1, kNoiseBins - 1);
+  atomicAdd(noiseBins[bin], 1u);
+}
+
 // Branch-free around texture reads, stores skipped past the edge (see PROCESS_BLOCK).
 void processPixel(ivec2 p, ivec2 o) {
   ivec2 size = P.src0Size;
@@ -160,6 +186,7 @@ void processPixel(ivec2 p, ivec2 o) {
   vec3 result = cur;
   float count = 1.0;  // the history's alpha: steady's sample count, 1 for the other modes
   const bool historyValid = P.historyValid != 0;
+  if (kNoiseSampled && inRange) recordNoiseSample(p, o);
   if (mode == kSteady) {
     // Steady (README, method): the history reprojected through the exact previous render pose
     // (reproj[0]); clipped to the YCoCg box mean +- gamma*sigma of the current 3x3; blended with
@@ -211,6 +238,11 @@ void processPixel(ivec2 p, ivec2 o) {
     const float srgbSlope2 = max(4.0 * max(ymn.x, 0.0), 1.0 / (12.92 * 12.92));
     const float floorSlope2 = (kSteadyBoxSwitches & 2) != 0 ? srgbSlope2 : 1.0;
     clipExt2 += kQuantVar * floorSlope2;
+    // Params::steadyNoiseEstimate: the box widened by one pixel's noise, so that a history may differ
+    // from it by as much as the noisy render itself differs from the truth (i.i.d. noise s2 per RGB
+    // channel is 3/8, 1/2, 3/8 s2 per YCoCg channel). Three of the centre's standard deviations
+    // (the three-sigma rule) let a fade's lag through at up to 3x none's error.
+    if (kNoiseAware) clipExt2 += P.steadyNoiseVariance * vec3(0.375, 0.5, 0.375);
     vec3 d = historyYCoCg - boxCentre;
     // Params::steadyClipHoldsCurrent (not the default): the box reaches out, on the history's side
     // and per channel, to the current frame's own estimate of the pixel's area average (fc).

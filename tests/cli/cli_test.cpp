@@ -318,6 +318,7 @@ TEST_F(Cli, EverythingItWritesTheLayerAccepts) {
                                                    {"steady_footprint_encoded", "off"},
                                                    {"steady_history_blur_per_axis", "off"},
                                                    {"steady_clip_holds_current", "on"},
+                                                   {"steady_noise_estimate", "on"},
                                                    {"steady_clip_curvature", "on"},
                                                    {"steady_clip_curvature_centred", "on"},
                                                    {"steady_clip_curvature_centred_gated", "on"},

@@ -126,10 +126,11 @@ const std::vector<Member> kPassUniforms = {
     HOST_MEMBER(PassUniforms, stereoTapCurvature),
     HOST_MEMBER(PassUniforms, steadyClipCurvatureKappa),
     HOST_MEMBER(PassUniforms, steadyClipCurvatureInner),
+    HOST_MEMBER(PassUniforms, steadyNoiseVariance),
 };
 // The table lists every host member: the last one (a float) ends the struct, up to its 16-byte
 // alignment.
-static_assert(offsetof(PassUniforms, steadyClipCurvatureInner) + sizeof(float) + 16 > sizeof(PassUniforms));
+static_assert(offsetof(PassUniforms, steadyNoiseVariance) + sizeof(float) + 16 > sizeof(PassUniforms));
 
 const std::vector<Member> kDepthToInvZ = {
     HOST_MEMBER(DepthToInvZ, invNear),

@@ -131,7 +131,7 @@ TEST(Config, SteadyKeys) {
                       "steady_footprint_encoded = off\nsteady_history_blur_per_axis = off\n"
                       "steady_clip_holds_current = on\nsteady_clip_curvature = off\n"
                       "steady_clip_curvature_centred = off\nsteady_clip_curvature_centred_gated = on\n"
-                      "steady_clip_quant_srgb = off\n"
+                      "steady_clip_quant_srgb = off\nsteady_noise_estimate = on\n"
                       "stereo_inverse_variance = off\n"
                       "stereo_tap_curvature = off\nstereo_clip_gamma_after_steady = 1.5\n",
                       &messages),
@@ -153,6 +153,7 @@ TEST(Config, SteadyKeys) {
   EXPECT_FALSE(c.params.steadyClipCurvatureCentred);      // on by default: off here shows the key is read
   EXPECT_TRUE(c.params.steadyClipCurvatureCentredGated);  // off by default: on here shows the key is read
   EXPECT_FALSE(c.params.steadyClipQuantSrgb);             // on by default: off here shows the key is read
+  EXPECT_TRUE(c.params.steadyNoiseEstimate);              // off by default: on here shows the key is read
   EXPECT_FALSE(c.params.stereoInverseVariance);
   EXPECT_FALSE(c.params.stereoTapCurvature);
   EXPECT_FLOAT_EQ(c.params.stereoClipGammaAfterSteady, 1.5f);

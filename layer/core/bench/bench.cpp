@@ -56,7 +56,9 @@ void usage() {
                "(steadyClipCurvature); @curvcentre, @curvcentre=0, @quantsrgb, @quantsrgb=0: the\n"
                "one-sided curvature box and the sRGB quantisation floor, or not\n"
                "(steadyClipCurvatureCentred, steadyClipQuantSrgb); @curvgate: the one-sided box only\n"
-               "where the history lags on one side (steadyClipCurvatureCentredGated, an option).\n";
+               "where the history lags on one side (steadyClipCurvatureCentredGated, an option);\n"
+               "@noisy: the render's noise estimated and steady aware of it (steadyNoiseEstimate, the\n"
+               "profile noisy).\n";
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -283,6 +285,8 @@ std::optional<Params> methodParams(const std::string& spec) {
       params->steadyClipQuantSrgb = true;
     else if (suffix == "quantsrgb=0")  // the default with the linear floor (round 7's cost comparison)
       params->steadyClipQuantSrgb = false;
+    else if (suffix == "noisy")  // round 13's profile: the noise estimate and the noise-aware box and guard
+      params->steadyNoiseEstimate = true;
     else
       return std::nullopt;
   }

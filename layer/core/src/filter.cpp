@@ -53,6 +53,10 @@ void Filter::waitIdle() {
 std::optional<PassTimings> Filter::lastTimings() const {
   return impl_->timings;
 }
+std::optional<float> Filter::estimatedNoiseVariance() const {
+  if (!impl_->noiseEstimate) return std::nullopt;
+  return impl_->noiseEstimate->variance;
+}
 
 void Filter::forgetImage(VkImage image) {
   bool any = false;

@@ -41,6 +41,14 @@ struct Filter::Impl {
   std::map<ViewKey, Unique<VkImageView>> views;
   uint64_t frameCounter = 0;
   std::optional<PassTimings> timings;
+  // The render's noise variance per linear RGB channel from the newest finished frame that
+  // sampled it (Params::steadyNoiseEstimate; noise_estimate.h).
+  struct NoiseEstimate {
+    float variance = 0.0f;
+    uint64_t frameIndex = 0;
+  };
+  std::optional<NoiseEstimate> noiseEstimate;
+  uint64_t noiseResetFrame = 0;  // histograms of frames before the last reset are not read
 
   Impl(VulkanContext& c, const FilterOptions& options)
       : ctx(c), device(c.device()), pipelines(c.device(), options.compileInBackground) {}
@@ -52,8 +60,10 @@ struct Filter::Impl {
                    std::string* error);
   VkImageView view(VkImage image, VkFormat format, uint32_t layer, VkImageAspectFlags aspect,
                    std::string* error);
-  void collect(detail::Slot& s);  // waits for the slot's frame and reads its timestamps
+  void collect(detail::Slot& s);  // waits for the slot's frame, reads its timestamps and noise histogram
+  void collectFinished();         // collect() of every slot whose frame has finished, without waiting
   void waitAll();
+  static uint32_t* noiseBins(const detail::Slot& s);  // the slot's histogram, host-mapped
 
   // submit and its steps, in order (filter_submit.cpp).
   bool submit(const StereoFrame& frame, const StereoOutput& output, std::string* error, VkSemaphore signal);

@@ -140,6 +140,7 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
     u.steadyJitterRecentred = params.steadyJitterRecentred ? 1.0f : 0.0f;
     u.steadyHistoryBlurPerAxis = params.steadyHistoryBlurPerAxis ? 1.0f : 0.0f;
     u.steadyClipHoldsCurrent = params.steadyClipHoldsCurrent ? 1.0f : 0.0f;
+    u.steadyNoiseVariance = c.noiseVariance;
     u.steadyClipCurvatureKappa = params.steadyClipCurvature ? params.steadyClipCurvatureKappa : 0.0f;
     u.steadyClipCurvatureInner = params.steadyClipCurvature && params.steadyClipCurvatureCentred
                                      ? params.steadyClipCurvatureInner
@@ -212,19 +213,23 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
   const bool jittered =
       params.jitteredInput || d.uniforms.jitterPx.x != 0.0f || d.uniforms.jitterPx.y != 0.0f;
   const bool oneSidedBox = params.steadyClipCurvature && params.steadyClipCurvatureCentred;
-  return {temporal ? sw.mode : 0, temporal ? std::max(sw.sampleCount, 1) : 1, writeOut ? 1 : 0,
-          sw.writeHistory ? 1 : 0, writeOut && sw.encodeSrgb ? 1 : 0, writeOut && sw.swapRedBlue ? 1 : 0,
-          sw.depthBits, (d.io.src0.clean ? 1 : 0) | (d.io.src1.clean ? 2 : 0), temporal && jittered ? 1 : 0,
-          temporal && params.historyFilter == HistoryFilter::CatmullRom ? 1 : 0, blocked ? 1 : 0,
-          static_cast<int32_t>(groupX), static_cast<int32_t>(groupY), sw.historyEncoding,
-          // Round 7's clip-box switches, compiled in only where on (lavapipe runs the default's
-          // pipeline ~20 % slower with them behind uniform branches). The sRGB floor only where the
-          // input is sRGB: UNORM input is filtered in its own codes, whose step is the linear floor.
-          temporal
-              ? (oneSidedBox ? 1 : 0) | (params.steadyClipQuantSrgb && sw.inputSrgb ? 2 : 0) |
-                    // Round 10's gate: its bit lives in the sign of the RGBA16F history's alpha.
-                    (oneSidedBox && params.steadyClipCurvatureCentredGated && sw.historyEncoding == 0 ? 4 : 0)
-              : 0};
+  return {
+      temporal ? sw.mode : 0, temporal ? std::max(sw.sampleCount, 1) : 1, writeOut ? 1 : 0,
+      sw.writeHistory ? 1 : 0, writeOut && sw.encodeSrgb ? 1 : 0, writeOut && sw.swapRedBlue ? 1 : 0,
+      sw.depthBits, (d.io.src0.clean ? 1 : 0) | (d.io.src1.clean ? 2 : 0), temporal && jittered ? 1 : 0,
+      temporal && params.historyFilter == HistoryFilter::CatmullRom ? 1 : 0, blocked ? 1 : 0,
+      static_cast<int32_t>(groupX), static_cast<int32_t>(groupY), sw.historyEncoding,
+      // Round 7's clip-box switches, compiled in only where on (lavapipe runs the default's
+      // pipeline ~20 % slower with them behind uniform branches). The sRGB floor only where the
+      // input is sRGB: UNORM input is filtered in its own codes, whose step is the linear floor.
+      temporal
+          ? (oneSidedBox ? 1 : 0) | (params.steadyClipQuantSrgb && sw.inputSrgb ? 2 : 0) |
+                // Round 10's gate: its bit lives in the sign of the RGBA16F history's alpha.
+                (oneSidedBox && params.steadyClipCurvatureCentredGated && sw.historyEncoding == 0 ? 4 : 0) |
+                // Round 13: the box widened by the noise, and the histogram that estimates it.
+                (params.steadyNoiseEstimate || params.steadyNoiseVariance > 0.0f ? 8 : 0) |
+                (params.steadyNoiseEstimate ? 16 : 0)
+          : 0};
 }
 
 }  // namespace steadyxr::core::detail

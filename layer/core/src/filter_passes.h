@@ -91,6 +91,7 @@ struct PassContext {
   const std::array<EyeState, 2>& eyes;
   uint32_t historyWrite;  // eyes[e].history[historyWrite] is written this frame, the other read
   uint32_t ditherSeed;    // the 8-bit history's dither, new every frame (common.glsl storeHistory)
+  float noiseVariance;    // steady: the render's noise variance per linear RGB channel (estimated or told)
 };
 
 // The first stage of eye e: the app's input through copy, fxaa or a temporal method into this

@@ -8,6 +8,7 @@
 #include "filter_error.h"
 #include "filter_formats.h"
 #include "filter_impl.h"
+#include "noise_estimate.h"
 
 namespace steadyxr::core {
 
@@ -184,8 +185,10 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
       sampled(samplerNearest.get(), io.appInput),
       {VK_NULL_HANDLE, io.historyOut && history8 ? io.historyOut : dummy8.view.get(),
        VK_IMAGE_LAYOUT_GENERAL},
+      {},  // 9: the noise histogram
   }};
   const VkDescriptorBufferInfo bi{s.ubo.get(), offset, sizeof(PassUniforms)};
+  const VkDescriptorBufferInfo noiseInfo{s.ubo.get(), s.noiseOffset, detail::kNoiseHistogramBytes};
   std::array<VkWriteDescriptorSet, kBindings> w{};
   for (uint32_t i = 0; i < w.size(); ++i) {
     w[i] = {};
@@ -196,6 +199,8 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
     w[i].descriptorType = descriptorType(i);
     if (w[i].descriptorType == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER)
       w[i].pBufferInfo = &bi;
+    else if (w[i].descriptorType == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
+      w[i].pBufferInfo = &noiseInfo;
     else
       w[i].pImageInfo = &ii[i];
   }

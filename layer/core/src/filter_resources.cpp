@@ -1,11 +1,13 @@
 // The filter's own GPU objects: samplers, layouts, per-frame slots, internal images, view cache.
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "filter_error.h"
 #include "filter_impl.h"
+#include "noise_estimate.h"
 #include "pass_uniforms.h"
 
 namespace steadyxr::core {
@@ -143,10 +145,11 @@ bool Filter::Impl::init(std::string* error) {
     if (vkCreateFence(device, &fci, nullptr, &fence) != VK_SUCCESS)
       return fail(error, "vkCreateFence failed"), false;
     s.fence = Unique<VkFence>(device, fence);
-    std::array<VkDescriptorPoolSize, 3> sizes{{
+    std::array<VkDescriptorPoolSize, 4> sizes{{
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 5 * kMaxDispatches},
         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 3 * kMaxDispatches},
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kMaxDispatches},
+        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kMaxDispatches},
     }};
     VkDescriptorPoolCreateInfo dpci{};
     dpci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
@@ -161,8 +164,12 @@ bool Filter::Impl::init(std::string* error) {
     VkBufferCreateInfo bci{};
 
     bci.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
-    bci.size = uboStride * kMaxDispatches;
-    bci.usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT;
+    // The uniforms of every dispatch, then the frame's noise histogram (zeroed by the host).
+    const VkDeviceSize storageAlign =
+        std::max<VkDeviceSize>(props.limits.minStorageBufferOffsetAlignment, 16);
+    s.noiseOffset = (uboStride * kMaxDispatches + storageAlign - 1) / storageAlign * storageAlign;
+    bci.size = s.noiseOffset + detail::kNoiseHistogramBytes;
+    bci.usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     VkBuffer buf = VK_NULL_HANDLE;
     if (vkCreateBuffer(device, &bci, nullptr, &buf) != VK_SUCCESS)
       return fail(error, "vkCreateBuffer failed"), false;
@@ -184,6 +191,7 @@ bool Filter::Impl::init(std::string* error) {
     vkBindBufferMemory(device, buf, mem, 0);
     if (vkMapMemory(device, mem, 0, VK_WHOLE_SIZE, 0, &s.mapped) != VK_SUCCESS)
       return fail(error, "vkMapMemory failed"), false;  // freed memory is implicitly unmapped
+    std::memset(noiseBins(s), 0, detail::kNoiseHistogramBytes);
     if (timestamps) {
       VkQueryPoolCreateInfo qpci{};
       qpci.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
@@ -225,6 +233,13 @@ void Filter::Impl::collect(Slot& s) {
   vkWaitForFences(device, 1, &fence, VK_TRUE, UINT64_MAX);
   vkResetFences(device, 1, &fence);
   s.pending = false;
+  if (s.noiseSampled && s.frameIndex >= noiseResetFrame &&
+      (!noiseEstimate || noiseEstimate->frameIndex < s.frameIndex)) {
+    if (const auto variance = detail::noiseVarianceFromHistogram(noiseBins(s)))
+      noiseEstimate = NoiseEstimate{*variance, s.frameIndex};
+  }
+  if (s.noiseSampled) std::memset(noiseBins(s), 0, detail::kNoiseHistogramBytes);
+  s.noiseSampled = false;
   if (!s.timed || !s.queries) return;
   std::array<uint64_t, kQueries> ts{};
   if (vkGetQueryPoolResults(device, s.queries.get(), 0, kQueries, sizeof(ts), ts.data(), sizeof(uint64_t),
@@ -244,6 +259,15 @@ void Filter::Impl::collect(Slot& s) {
 
 void Filter::Impl::waitAll() {
   for (auto& s : slots) collect(s);
+}
+
+void Filter::Impl::collectFinished() {
+  for (auto& s : slots)
+    if (s.pending && vkGetFenceStatus(device, s.fence.get()) == VK_SUCCESS) collect(s);
+}
+
+uint32_t* Filter::Impl::noiseBins(const Slot& s) {
+  return reinterpret_cast<uint32_t*>(static_cast<char*>(s.mapped) + s.noiseOffset);
 }
 
 }  // namespace steadyxr::core

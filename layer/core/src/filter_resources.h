@@ -20,11 +20,13 @@ constexpr uint32_t kQueries = 4;
 
 // The one descriptor set layout of every pass (common.glsl): 0-3 samplers (src0, src1, depth0,
 // depth1), 4-5 storage images (history out, output), 6 the uniforms, 7 a sampler (the app's
-// input of this eye, whose alpha every output carries), 8 the 8-bit history out.
-constexpr uint32_t kBindings = 9;
+// input of this eye, whose alpha every output carries), 8 the 8-bit history out, 9 the frame's
+// noise histogram (noise_estimate.h).
+constexpr uint32_t kBindings = 10;
 constexpr VkDescriptorType descriptorType(uint32_t binding) {
   return binding < 4 || binding == 7   ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
          : binding < 6 || binding == 8 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+         : binding == 9                ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
                                        : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
 }
 
@@ -46,9 +48,11 @@ struct Slot {
   Unique<VkBuffer> ubo;
   Unique<VkDeviceMemory> uboMemory;
   void* mapped = nullptr;
+  VkDeviceSize noiseOffset = 0;  // the noise histogram's place in ubo (after the uniforms)
   Unique<VkQueryPool> queries;
   bool pending = false;
   bool timed = false;
+  bool noiseSampled = false;  // a pass of the frame filled the noise histogram
   uint64_t frameIndex = 0;
 };
 

@@ -63,6 +63,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
                           VkSemaphore signal) {
   pipelines.compiling = false;
   applyPendingParams();
+  collectFinished();  // the newest noise estimate, without waiting
   FramePlan plan;
   if (!checkInputs(frame, output, plan, error)) return false;
   if (!prepareEyes(frame, plan, error)) return false;
@@ -148,6 +149,8 @@ bool Filter::Impl::prepareEyes(const StereoFrame& frame, FramePlan& plan, std::s
   if (frame.reset || resetRequested) {
     for (auto& eye : eyes) eye.valid = false;
     resetRequested = false;
+    noiseEstimate.reset();  // a new start: the noise is measured again
+    noiseResetFrame = frameCounter;
   }
   // A history is reprojected only from a finite pose, across a small enough head move.
   for (uint32_t e = 0; e < n; ++e) {
@@ -218,13 +221,27 @@ bool Filter::Impl::bindTargets(const StereoFrame& frame, const StereoOutput& out
 bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoOutput& output,
                                 const FramePlan& plan, std::string* error) {
   Recording rec{s};
-  const PassContext c{frame, output, params, plan, eyes, historyIndex, static_cast<uint32_t>(frameCounter)};
+  const bool steady = plan.temporal && params.temporal == TemporalMethod::Steady;
+  const float noiseVariance = !params.steadyNoiseEstimate ? params.steadyNoiseVariance
+                              : noiseEstimate             ? noiseEstimate->variance
+                                                          : 0.0f;
+  const PassContext c{
+      frame, output, params, plan, eyes, historyIndex, static_cast<uint32_t>(frameCounter), noiseVariance};
+  s.noiseSampled = steady && plan.firstStage && params.steadyNoiseEstimate;
   bool ok = true;
   if (plan.firstStage) {
     for (uint32_t e = 0; e < plan.viewCount && ok; ++e) {
       const PassDispatch d = plan.temporal ? temporalPass(c, e) : plan.fxaa ? fxaaPass(c, e) : copyPass(c, e);
       ok = record(rec, d, error);
     }
+  }
+  if (s.noiseSampled) {  // the histogram's atomic adds made visible to the host that reads it (collect)
+    VkMemoryBarrier m{};
+    m.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    m.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    m.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(s.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &m, 0,
+                         nullptr, 0, nullptr);
   }
   if (ok && plan.stereo && plan.firstStage) {  // the first stage's history writes before stereo reads them
     VkMemoryBarrier m{};

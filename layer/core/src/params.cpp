@@ -105,6 +105,8 @@ std::string validate(const Params& p, Params* sanitized) {
         "steadyFootprint", &Params::steadyFootprint);
   check(positive(p.steadyNearestDepthM) || p.steadyNearestDepthM == INFINITY, "steadyNearestDepthM",
         &Params::steadyNearestDepthM);
+  check(finite(p.steadyNoiseVariance) && p.steadyNoiseVariance >= 0.0f && p.steadyNoiseVariance <= 1.0f,
+        "steadyNoiseVariance", &Params::steadyNoiseVariance);
   check(finite(p.steadyBlurBudgetPx2) && p.steadyBlurBudgetPx2 >= 0.0f, "steadyBlurBudgetPx2",
         &Params::steadyBlurBudgetPx2);
   check(finite(p.stereoDepthTolerance) && p.stereoDepthTolerance >= 0.0f, "stereoDepthTolerance",

@@ -69,6 +69,7 @@ struct PassUniforms {
   float stereoTapCurvature;  // stereo: 1 = the other eye's bilinear tap corrected by this eye's curvature
   float steadyClipCurvatureKappa;  // steady: > 0 = the clip box bounded by kappa (|cxx| + |cyy|); 0 = off
   float steadyClipCurvatureInner;  // steady (round 7): the one-sided curvature box's inner bound (spec bit0)
+  float steadyNoiseVariance;       // steady (round 13): the render's noise variance per linear RGB channel
 };
 
 // std140 offsets of PassParams in common.glsl: a host member moved fails here, a shader member
@@ -114,6 +115,7 @@ static_assert(offsetof(PassUniforms, steadyClipHoldsCurrent) == 480);
 static_assert(offsetof(PassUniforms, stereoTapCurvature) == 484);
 static_assert(offsetof(PassUniforms, steadyClipCurvatureKappa) == 488);
 static_assert(offsetof(PassUniforms, steadyClipCurvatureInner) == 492);
-static_assert(sizeof(PassUniforms) == 496);  // the block's 496 bytes (16-aligned by DepthToInvZ)
+static_assert(offsetof(PassUniforms, steadyNoiseVariance) == 496);
+static_assert(sizeof(PassUniforms) == 512);  // the block's 512 bytes (16-aligned by DepthToInvZ)
 
 }  // namespace steadyxr::core

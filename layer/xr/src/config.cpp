@@ -119,6 +119,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_clip_curvature_centred", &core::Params::steadyClipCurvatureCentred},
     {"steady_clip_curvature_centred_gated", &core::Params::steadyClipCurvatureCentredGated},
     {"steady_clip_quant_srgb", &core::Params::steadyClipQuantSrgb},
+    {"steady_noise_estimate", &core::Params::steadyNoiseEstimate},
     {"stereo_inverse_variance", &core::Params::stereoInverseVariance},
     {"stereo_tap_curvature", &core::Params::stereoTapCurvature},
 };

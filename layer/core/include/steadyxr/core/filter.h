@@ -63,6 +63,9 @@ class Filter {
 
   // GPU timings of the newest completed frame (timestamp queries), if the queue supports them.
   std::optional<PassTimings> lastTimings() const;
+  // The render's noise variance per linear RGB channel that steady estimated from the newest
+  // finished frame since the last reset (Params::steadyNoiseEstimate), if any.
+  std::optional<float> estimatedNoiseVariance() const;
 
   // Forget cached views/descriptors of an image that the caller is about to destroy.
   void forgetImage(VkImage image);

@@ -151,6 +151,21 @@ struct Params {
   // none's), and a head-locked HUD is content that moves in place too (held out: frames up to 1.21x).
   // For apps without video or a HUD drawn into the eye images.
   bool steadyClipCurvatureCentredGated = false;
+  // Issue 14 round 13, an option, off (docs/method-history.md, round 13): the render's per-frame
+  // noise (a path tracer's, film grain, dithered transparency) estimated from the frames, and the
+  // clip box widened by one pixel's noise variance: a history may differ from the box by as much
+  // as the noisy render itself differs from the truth (none's own error). The estimate: Donoho and
+  // Johnstone's robust scale, sigma = median |d| / 0.6745, over the luma's x^2 y^2 contrast d of the
+  // 3x3 at one pixel in 16 (the finest diagonal detail), 3x3s with none of it (flat, masked) left out, from
+  // the newest frame the GPU has finished. Why: without it the box (items 6 and 7, built from
+  // second differences) clips a good history to a noisy centre, and plain taa beat the default on
+  // noisy renders. Why not the default: one frame cannot tell fine aliased detail (1-px lines,
+  // small text, gratings) from noise, so on a clean render the estimate reads that detail as noise
+  // and the widened box lets the lag of content that changes in place through.
+  bool steadyNoiseEstimate = false;
+  // The noise variance per linear RGB channel to use when steadyNoiseEstimate is off (0 = a clean
+  // render: steady as before round 13). The eval tells it the scene's own (noisevar=-1).
+  float steadyNoiseVariance = 0.0f;
   // inner: 1/3 - V_max/2 with V_max = 5/12, the blurriest static history (kappa's comment): 1/8.
   float steadyClipCurvatureInner = 1.0f / 8.0f;
   // Issue 14 round 8 (the default; round 7 measured it with an exact pow, off): the clip box's floor
