@@ -172,7 +172,9 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
           "unknown parameter '" + key +
           "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, tapcurv, sclip, d, catmull, floor, conf, "
           "reject, boxcur, curvbox, curvkappa, clip, blur, footprint, fpenc, bluraxis, jrecentre, near, "
-          "interp, curvcentre, curvgate, curvinner, quantsrgb, history=16|8, dither after history=8)";
+          "interp, curvcentre, curvgate, curvinner, quantsrgb, noiseest, noisevar, history=16|8, dither "
+          "after "
+          "history=8)";
       return false;
     }
     v->sweep = true;

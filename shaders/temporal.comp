@@ -118,12 +118,9 @@ void recentredClipMoments(ivec2 o, out vec3 mean, out vec3 variance) {
 // octaves). The host takes its median (noise_estimate.h).
 void recordNoiseSample(ivec2 p, ivec2 o) {
   if (any(notEqual(p & 3, ivec2(2))) || any(greaterThanEqual(p + 1, P.src0Size))) return;
-  const vec3 lumaWeights = vec3(0.25, 0.5, 0.25);
-  const float corners = dot(blockAt(o, -1, -1) + blockAt(o, 1, -1) + blockAt(o, -1, 1) + blockAt(o, 1, 1),
-                            lumaWeights);
-  const float edges = dot(blockAt(o, 0, -1) + blockAt(o, -1, 0) + blockAt(o, 1, 0) + blockAt(o, 0, 1), lumaWeights);
-  const float centre = dot(blockAt(o, 0, 0), lumaWeights);
-  const float detail = abs(corners - 2.0 * edges + 4.0 * centre) * (1.0 / 6.0);
+  const vec3 corners = blockAt(o, -1, -1) + blockAt(o, 1, -1) + blockAt(o, -1, 1) + blockAt(o, 1, 1);
+  const vec3 edges = blockAt(o, 0, -1) + blockAt(o, -1, 0) + blockAt(o, 1, 0) + blockAt(o, 0, 1);
+  const float detail = abs(toYCoCg(corners - 2.0 * edges + 4.0 * blockAt(o, 0, 0)).x) * (1.0 / 6.0);
   const float octaves = log2(max(detail, 1e-30)) - kNoiseLowestLog2;
   const int bin = octaves < 0.0 ? 0 : min(int(kNoiseBinsPerOctave * octaves) + 1, kNoiseBins - 1);
   atomicAdd(noiseBins[bin], 1u);
