@@ -127,7 +127,7 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyConfidence = value != 0.0f;
     else if (key == "reject")
       params->steadyClipRejects = value != 0.0f;
-    else if (key == "noiseest")  // round 13 (the default): steady estimates the render's noise
+    else if (key == "noiseest")  // round 13's option (off by default): steady estimates the render's noise
       params->steadyNoiseEstimate = value != 0.0f;
     else if (key == "noisevar") {  // told instead: a variance per linear RGB channel, < 0: the scene's own
       params->steadyNoiseEstimate = false;
@@ -172,9 +172,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
           "unknown parameter '" + key +
           "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, tapcurv, sclip, d, catmull, floor, conf, "
           "reject, boxcur, curvbox, curvkappa, clip, blur, footprint, fpenc, bluraxis, jrecentre, near, "
-          "interp, curvcentre, curvgate, curvinner, quantsrgb, noiseest, noisevar, history=16|8, dither "
-          "after "
-          "history=8)";
+          "interp, curvcentre, curvgate, curvinner, quantsrgb, noiseest, noisevar, history=16|8, "
+          "dither after history=8)";
       return false;
     }
     v->sweep = true;
