@@ -129,6 +129,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyClipRejects = value != 0.0f;
     else if (key == "noiseest")  // round 13's option (off by default): steady estimates the render's noise
       params->steadyNoiseEstimate = value != 0.0f;
+    else if (key == "noisetime")  // round 14: 0 = round 13's estimate, the frame's own detail alone
+      params->steadyNoiseResidualOverTime = value != 0.0f;
     else if (key == "noisevar") {  // told instead: a variance per linear RGB channel, < 0: the scene's own
       params->steadyNoiseEstimate = false;
       if (value < 0.0f)
@@ -172,7 +174,7 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
           "unknown parameter '" + key +
           "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, tapcurv, sclip, d, catmull, floor, conf, "
           "reject, boxcur, curvbox, curvkappa, clip, blur, footprint, fpenc, bluraxis, jrecentre, near, "
-          "interp, curvcentre, curvgate, curvinner, quantsrgb, noiseest, noisevar, history=16|8, "
+          "interp, curvcentre, curvgate, curvinner, quantsrgb, noiseest, noisetime, noisevar, history=16|8, "
           "dither after history=8)";
       return false;
     }

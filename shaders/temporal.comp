@@ -116,14 +116,72 @@ void recentredClipMoments(ivec2 o, out vec3 mean, out vec3 variance) {
 // x^2 y^2 contrast of its 3x3 (weights (1, -2, 1) x (1, -2, 1), norm 6), scaled to the noise's
 // standard deviation, to the frame's histogram (bin 0 below 2^kNoiseLowestLog2, then quarter
 // octaves). The host takes its median (noise_estimate.h).
-void recordNoiseSample(ivec2 p, ivec2 o) {
-  if (any(notEqual(p & 3, ivec2(2))) || any(greaterThanEqual(p + 1, P.src0Size))) return;
+void addNoiseSample(float absDetail, int histogram) {
+  if (!(absDetail >= 0.0)) return;  // NaN
+  const float octaves = log2(max(absDetail, 1e-30)) - kNoiseLowestLog2;
+  const int bin = octaves < 0.0 ? 0 : min(int(kNoiseBinsPerOctave * octaves) + 1, kNoiseBins - 1);
+  atomicAdd(noiseBins[histogram * kNoiseBins + bin], 1u);
+}
+// The sampled pixels: in a 4x4 block the one at (2, 2), known when the block's calls are written out.
+bool noiseSamplePixel(ivec2 p, ivec2 o) {
+  return kBlocked ? all(equal(o, ivec2(2))) : all(equal(p & 3, ivec2(2)));
+}
+// src0 at block pixel o + (x, y), |x|, |y| <= 2: the block holds +-1 around a 1-pixel block only.
+vec3 src0Near(ivec2 p, ivec2 o, int x, int y) {
+  return kBlocked ? blockAt(o, x, y) : fetchSrc0(clamp(p + ivec2(x, y), ivec2(0), P.src0Size - 1));
+}
+// The history's texel t (linear colour), either encoding.
+vec3 historyTexel(ivec2 t) {
+  if (kHistoryEncoding != 0) return history8Texel(t).rgb;
+  return texelFetch(uSrc1, P.src1Offset + clamp(t, ivec2(0), P.src1Size - 1), 0).rgb;
+}
+// Round 14: the same contrast of the residual between this frame's footprint estimate (steady's fc,
+// unjittered) and the history reprojected to q, over the 3x3 around the pixel: what changed since the
+// last frame at the finest scale (noise, every frame) and not the picture's own fine detail (aliasing
+// under a still head, which the history holds too). Its own histogram; the host takes the smaller of
+// the two estimates (noise_estimate.h).
+float residualDetail(ivec2 p, ivec2 o, vec2 q) {
+  const float k = P.steadyFootprint;
+  const bool encoded = P.steadyFootprintEncoded > 0.5;
+  const vec3 w = vec3(k, 1.0 - 2.0 * k, k);
+  vec3 rows[15];  // the 5x5 filtered along x: rows y = -2..2, columns x = -1..1
+  [[unroll]] for (int y = -2; y <= 2; ++y)
+    [[unroll]] for (int x = -1; x <= 1; ++x) {
+      vec3 s = vec3(0.0);
+      [[unroll]] for (int i = -1; i <= 1; ++i) {
+        const vec3 c = src0Near(p, o, x + i, y);
+        s += w[i + 1] * (encoded ? sqrt(c) : c);
+      }
+      rows[(y + 2) * 3 + x + 1] = s;
+    }
+  const vec2 pos = q - 0.5;  // texel centres at integers
+  const ivec2 t = ivec2(floor(pos));
+  const vec2 f = pos - vec2(t);
+  vec3 texels[16];  // texels t + (-1..2, -1..2): the bilinear taps at q + (-1..1, -1..1)
+  [[unroll]] for (int j = 0; j < 4; ++j)
+    [[unroll]] for (int i = 0; i < 4; ++i) texels[j * 4 + i] = historyTexel(t + ivec2(i - 1, j - 1));
+  const vec3 weight1d = vec3(1.0, -2.0, 1.0);
+  float detail = 0.0;
+  [[unroll]] for (int y = -1; y <= 1; ++y)
+    [[unroll]] for (int x = -1; x <= 1; ++x) {
+      vec3 s = vec3(0.0);
+      [[unroll]] for (int j = -1; j <= 1; ++j) s += w[j + 1] * rows[(y + j + 2) * 3 + x + 1];
+      const vec3 estimate = encoded ? s * s : s;
+      const int i0 = (y + 1) * 4 + x + 1;
+      const vec3 history = mix(mix(texels[i0], texels[i0 + 1], f.x), mix(texels[i0 + 4], texels[i0 + 5], f.x), f.y);
+      detail += weight1d[x + 1] * weight1d[y + 1] * toYCoCg(estimate - history).x;
+    }
+  return abs(detail) * (1.0 / 6.0);
+}
+void recordNoiseSamples(ivec2 p, ivec2 o, bool historyConfirmed, vec2 q) {
+  if (!noiseSamplePixel(p, o) || any(greaterThanEqual(p + 1, P.src0Size))) return;
   const vec3 corners = blockAt(o, -1, -1) + blockAt(o, 1, -1) + blockAt(o, -1, 1) + blockAt(o, 1, 1);
   const vec3 edges = blockAt(o, 0, -1) + blockAt(o, -1, 0) + blockAt(o, 1, 0) + blockAt(o, 0, 1);
-  const float detail = abs(toYCoCg(corners - 2.0 * edges + 4.0 * blockAt(o, 0, 0)).x) * (1.0 / 6.0);
-  const float octaves = log2(max(detail, 1e-30)) - kNoiseLowestLog2;
-  const int bin = octaves < 0.0 ? 0 : min(int(kNoiseBinsPerOctave * octaves) + 1, kNoiseBins - 1);
-  atomicAdd(noiseBins[bin], 1u);
+  addNoiseSample(abs(toYCoCg(corners - 2.0 * edges + 4.0 * blockAt(o, 0, 0)).x) * (1.0 / 6.0), 0);
+  // Jittered input: the residual would hold the jitter's own sample differences; no estimate then.
+  const bool jittered = kJitter && any(notEqual(P.jitterPx, vec2(0.0)));
+  if (historyConfirmed && !jittered && all(lessThan(p + 2, P.src0Size)))
+    addNoiseSample(residualDetail(p, o, q), 1);
 }
 
 // Branch-free around texture reads, stores skipped past the edge (see PROCESS_BLOCK).
@@ -183,7 +241,6 @@ void processPixel(ivec2 p, ivec2 o) {
   vec3 result = cur;
   float count = 1.0;  // the history's alpha: steady's sample count, 1 for the other modes
   const bool historyValid = P.historyValid != 0;
-  if (kNoiseSampled && inRange) recordNoiseSample(p, o);
   if (mode == kSteady) {
     // Steady (README, method): the history reprojected through the exact previous render pose
     // (reproj[0]); clipped to the YCoCg box mean +- gamma*sigma of the current 3x3; blended with
@@ -193,6 +250,7 @@ void processPixel(ivec2 p, ivec2 o) {
     float iz;
     const bool confirmed = reproject(P.reproj[0], pc, invZ, q, iz) && historyValid;
     vec4 hs = sampleHistoryRgba(q);  // q is clamped into the image inside
+    if (kNoiseSampled && inRange) recordNoiseSamples(p, o, confirmed, q);
     // Params::steadyClipCurvatureCentredGated (an option, off): the sign of the history's alpha is the
     // side of the current estimate its luma lay on last frame (negative: above). A history lagging
     // content that changes in place stays on one side; one averaging aliased detail flips at random.

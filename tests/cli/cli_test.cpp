@@ -211,7 +211,7 @@ TEST_F(Cli, ProfilesAreSetCheckedAndShown) {
             std::string::npos)
       << out_.str();
   EXPECT_EQ(cli({"set", "profile=cinema"}), 1);
-  EXPECT_NE(err_.str().find("expected default, hud or world-only"), std::string::npos) << err_.str();
+  EXPECT_NE(err_.str().find("expected default, hud, world-only or noisy"), std::string::npos) << err_.str();
   EXPECT_EQ(read(conf()), "[game]\nprofile = hud\n");
 }
 
@@ -319,6 +319,7 @@ TEST_F(Cli, EverythingItWritesTheLayerAccepts) {
                                                    {"steady_history_blur_per_axis", "off"},
                                                    {"steady_clip_holds_current", "on"},
                                                    {"steady_noise_estimate", "on"},
+                                                   {"steady_noise_residual_over_time", "0"},
                                                    {"steady_clip_curvature", "on"},
                                                    {"steady_clip_curvature_centred", "on"},
                                                    {"steady_clip_curvature_centred_gated", "on"},

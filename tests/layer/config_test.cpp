@@ -125,16 +125,17 @@ TEST(Config, ImuAndDumpKeys) {
 TEST(Config, SteadyKeys) {
   std::vector<std::string> messages;
   const Config c = resolveConfig(
-      parseConfigText("method = steady+stereo\nsteady_alpha_floor = 0.125\nsteady_blur_budget_px2 = 0.25\n"
-                      "steady_footprint = 0\nsteady_nearest_depth_m = 2\nsteady_confidence = off\n"
-                      "steady_clip_rejects = on\nsteady_interpolated = 1\nsteady_clip_gamma = 0.75\n"
-                      "steady_footprint_encoded = off\nsteady_history_blur_per_axis = off\n"
-                      "steady_clip_holds_current = on\nsteady_clip_curvature = off\n"
-                      "steady_clip_curvature_centred = off\nsteady_clip_curvature_centred_gated = on\n"
-                      "steady_clip_quant_srgb = off\nsteady_noise_estimate = on\n"
-                      "stereo_inverse_variance = off\n"
-                      "stereo_tap_curvature = off\nstereo_clip_gamma_after_steady = 1.5\n",
-                      &messages),
+      parseConfigText(
+          "method = steady+stereo\nsteady_alpha_floor = 0.125\nsteady_blur_budget_px2 = 0.25\n"
+          "steady_footprint = 0\nsteady_nearest_depth_m = 2\nsteady_confidence = off\n"
+          "steady_clip_rejects = on\nsteady_interpolated = 1\nsteady_clip_gamma = 0.75\n"
+          "steady_footprint_encoded = off\nsteady_history_blur_per_axis = off\n"
+          "steady_clip_holds_current = on\nsteady_clip_curvature = off\n"
+          "steady_clip_curvature_centred = off\nsteady_clip_curvature_centred_gated = on\n"
+          "steady_clip_quant_srgb = off\nsteady_noise_estimate = on\nsteady_noise_residual_over_time = off\n"
+          "stereo_inverse_variance = off\n"
+          "stereo_tap_curvature = off\nstereo_clip_gamma_after_steady = 1.5\n",
+          &messages),
       "a", envOf({}), &messages);
   EXPECT_TRUE(messages.empty()) << (messages.empty() ? "" : messages[0]);
   EXPECT_EQ(c.params.temporal, steadyxr::core::TemporalMethod::Steady);
@@ -154,6 +155,7 @@ TEST(Config, SteadyKeys) {
   EXPECT_TRUE(c.params.steadyClipCurvatureCentredGated);  // off by default: on here shows the key is read
   EXPECT_FALSE(c.params.steadyClipQuantSrgb);             // on by default: off here shows the key is read
   EXPECT_TRUE(c.params.steadyNoiseEstimate);              // off by default: on here shows the key is read
+  EXPECT_FALSE(c.params.steadyNoiseResidualOverTime);
   EXPECT_FALSE(c.params.stereoInverseVariance);
   EXPECT_FALSE(c.params.stereoTapCurvature);
   EXPECT_FLOAT_EQ(c.params.stereoClipGammaAfterSteady, 1.5f);
@@ -214,7 +216,7 @@ TEST(Config, ProfilesApplyWhereTheyAreNamed) {
     return resolveConfig(parseConfigText(text, &messages), "app", envOf(env), &messages);
   };
   // Each profile's own values are ones the layer takes (profiles are applied without messages).
-  for (const char* name : {"default", "hud", "world-only"}) {
+  for (const char* name : {"default", "hud", "world-only", "noisy"}) {
     const auto settings = profileSettings(name);
     ASSERT_TRUE(settings.has_value()) << name;
     for (const ProfileSetting& p : *settings)
@@ -228,6 +230,10 @@ TEST(Config, ProfilesApplyWhereTheyAreNamed) {
   EXPECT_TRUE(c.params.steadyClipHoldsCurrent);
   EXPECT_FALSE(c.params.steadyClipCurvatureCentredGated);
   EXPECT_EQ(resolve("[other]\nprofile = hud\n", {}).profile, "default");  // another app's section
+  c = resolve("[app]\nprofile = noisy\n", {});
+  EXPECT_EQ(c.profile, "noisy");
+  EXPECT_TRUE(c.params.steadyNoiseEstimate);
+  EXPECT_TRUE(c.params.steadyNoiseResidualOverTime);
 
   // A profile in the app's section wins over the global part's keys and loses to the section's.
   c = resolve(
@@ -255,7 +261,7 @@ TEST(Config, ProfilesApplyWhereTheyAreNamed) {
   c = resolve("profile = hud\n[app]\nprofile = cinema\n", {});
   EXPECT_EQ(c.profile, "default");
   EXPECT_FLOAT_EQ(c.params.steadyBlurBudgetPx2, defaults.steadyBlurBudgetPx2);
-  EXPECT_TRUE(mentions(messages, "profile = cinema", "default, hud or world-only"));
+  EXPECT_TRUE(mentions(messages, "profile = cinema", "default, hud, world-only or noisy"));
   EXPECT_NE(checkSetting("profile", "cinema"), "");
 }
 

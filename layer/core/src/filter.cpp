@@ -54,8 +54,7 @@ std::optional<PassTimings> Filter::lastTimings() const {
   return impl_->timings;
 }
 std::optional<float> Filter::estimatedNoiseVariance() const {
-  if (!impl_->noiseEstimate) return std::nullopt;
-  return impl_->noiseEstimate->variance;
+  return impl_->noiseTracker.variance();
 }
 
 void Filter::forgetImage(VkImage image) {

@@ -11,6 +11,7 @@
 #include "filter_passes.h"
 #include "filter_pipelines.h"
 #include "filter_resources.h"
+#include "noise_estimate.h"
 #include "steadyxr/core/filter.h"
 
 namespace steadyxr::core {
@@ -41,14 +42,10 @@ struct Filter::Impl {
   std::map<ViewKey, Unique<VkImageView>> views;
   uint64_t frameCounter = 0;
   std::optional<PassTimings> timings;
-  // The render's noise variance per linear RGB channel from the newest finished frame that
-  // sampled it (Params::steadyNoiseEstimate; noise_estimate.h).
-  struct NoiseEstimate {
-    float variance = 0.0f;
-    uint64_t frameIndex = 0;
-  };
-  std::optional<NoiseEstimate> noiseEstimate;
-  uint64_t noiseResetFrame = 0;  // histograms of frames before the last reset are not read
+  // The render's noise variance per linear RGB channel from the finished frames that sampled it
+  // (Params::steadyNoiseEstimate; noise_estimate.h), in the order they were submitted.
+  detail::NoiseTracker noiseTracker;
+  uint64_t noiseNextFrame = 0;  // frames before it are read, or from before the last reset
 
   Impl(VulkanContext& c, const FilterOptions& options)
       : ctx(c), device(c.device()), pipelines(c.device(), options.compileInBackground) {}

@@ -233,10 +233,9 @@ void Filter::Impl::collect(Slot& s) {
   vkWaitForFences(device, 1, &fence, VK_TRUE, UINT64_MAX);
   vkResetFences(device, 1, &fence);
   s.pending = false;
-  if (s.noiseSampled && s.frameIndex >= noiseResetFrame &&
-      (!noiseEstimate || noiseEstimate->frameIndex < s.frameIndex)) {
-    if (const auto variance = detail::noiseVarianceFromHistogram(noiseBins(s)))
-      noiseEstimate = NoiseEstimate{*variance, s.frameIndex};
+  if (s.noiseSampled && s.frameIndex >= noiseNextFrame) {
+    noiseTracker.add(noiseBins(s), params.steadyFootprint, params.steadyNoiseResidualOverTime);
+    noiseNextFrame = s.frameIndex + 1;
   }
   if (s.noiseSampled) std::memset(noiseBins(s), 0, detail::kNoiseHistogramBytes);
   s.noiseSampled = false;

@@ -149,8 +149,8 @@ bool Filter::Impl::prepareEyes(const StereoFrame& frame, FramePlan& plan, std::s
   if (frame.reset || resetRequested) {
     for (auto& eye : eyes) eye.valid = false;
     resetRequested = false;
-    noiseEstimate.reset();  // a new start: the noise is measured again
-    noiseResetFrame = frameCounter;
+    noiseTracker.reset();  // a new start: the noise is measured again
+    noiseNextFrame = frameCounter;
   }
   // A history is reprojected only from a finite pose, across a small enough head move.
   for (uint32_t e = 0; e < n; ++e) {
@@ -222,9 +222,8 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
                                 const FramePlan& plan, std::string* error) {
   Recording rec{s};
   const bool steady = plan.temporal && params.temporal == TemporalMethod::Steady;
-  const float noiseVariance = !params.steadyNoiseEstimate ? params.steadyNoiseVariance
-                              : noiseEstimate             ? noiseEstimate->variance
-                                                          : 0.0f;
+  const float noiseVariance =
+      !params.steadyNoiseEstimate ? params.steadyNoiseVariance : noiseTracker.variance().value_or(0.0f);
   const PassContext c{
       frame, output, params, plan, eyes, historyIndex, static_cast<uint32_t>(frameCounter), noiseVariance};
   s.noiseSampled = steady && plan.firstStage && params.steadyNoiseEstimate;

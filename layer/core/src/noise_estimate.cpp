@@ -34,4 +34,32 @@ std::optional<float> noiseVarianceFromHistogram(const uint32_t* bins) {
   return static_cast<float>(sigmaLuma * sigmaLuma / kLumaShareOfChannelVariance);
 }
 
+float footprintDetailGain(float footprintK) {
+  const double k = footprintK;
+  const double normSquared =
+      2.0 * k * k + 2.0 * (1.0 - 4.0 * k) * (1.0 - 4.0 * k) + (6.0 * k - 2.0) * (6.0 * k - 2.0);
+  return static_cast<float>(normSquared / 6.0);
+}
+
+void NoiseTracker::add(const uint32_t* bins, float footprintK, bool residualOverTime) {
+  const std::optional<float> spatial = noiseVarianceFromHistogram(bins);
+  if (!residualOverTime) {
+    if (spatial) variance_ = spatial;
+    return;
+  }
+  const std::optional<float> residual = noiseVarianceFromHistogram(bins + kNoiseBins);
+  if (!spatial || !residual) {  // no history yet (a reset, a first frame): start the window again
+    residualFrames_ = 0;
+    variance_.reset();
+    return;
+  }
+  const float gain = footprintDetailGain(footprintK);
+  std::copy_backward(residual_.begin(), residual_.end() - 1, residual_.end());
+  residual_[0] = *residual / (gain * gain);
+  residualFrames_ = std::min(residualFrames_ + 1, kResidualWindowFrames);
+  // While the window fills (the frames after a start), the residuals it has: a history of one frame
+  // holds that frame's noise too, so it caps noise less, never more.
+  variance_ = std::min(*spatial, *std::min_element(residual_.begin(), residual_.begin() + residualFrames_));
+}
+
 }  // namespace steadyxr::core::detail

@@ -161,8 +161,16 @@ struct Params {
   // second differences) clips a good history to a noisy centre, and plain taa beat the default on
   // noisy renders. Why not the default: one frame cannot tell fine aliased detail (1-px lines,
   // small text, gratings) from noise, so on a clean render the estimate reads that detail as noise
-  // and the widened box lets the lag of content that changes in place through.
+  // and the widened box lets the lag of content that changes in place through. Round 14's cap
+  // (below) takes most of that detail out, but a fade's lag is in the residual too: one clean fade
+  // still reaches 1.22x none's in a frame. The profile `noisy` sets it.
   bool steadyNoiseEstimate = false;
+  // Round 14: the estimate confirmed over time (noise_estimate.h): the same detail of the residual
+  // between this frame's footprint estimate and the reprojected history, the smallest of the last 4
+  // frames, caps the frame's own. Noise is new in every frame; a picture's fine detail is in the
+  // history too, and the window leaves out the first frames of a change in place (video below the
+  // display rate). false: round 13's estimate (the frame's own detail alone).
+  bool steadyNoiseResidualOverTime = true;
   // The noise variance per linear RGB channel to use when steadyNoiseEstimate is off (0 = a clean
   // render: steady as before round 13). The eval tells it the scene's own (noisevar=-1).
   float steadyNoiseVariance = 0.0f;
