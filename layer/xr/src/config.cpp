@@ -139,8 +139,8 @@ constexpr ProfileSetting kHudProfile[] = {{"steady_blur_budget_px2", "0.0104"},
 // on the one-sided box (fresh static draws 0.744 and 0.735 of none's against 0.791 and 0.789).
 constexpr ProfileSetting kWorldOnlyProfile[] = {{"steady_clip_curvature_centred_gated", "1"}};
 // noisy: an app whose eye images carry per-frame noise (film grain, a path tracer, dithered
-// transparency): the render's noise estimated and the clip box widened by it (rounds 13-14: fresh
-// all-noisy draws 0.71-0.72 of none's against the default's 0.79-0.82).
+// transparency): the render's noise estimated and the clip box widened by it (rounds 13-14: six
+// all-noisy draws 0.71-0.75 of none's against the default's 0.79-0.82).
 constexpr ProfileSetting kNoisyProfile[] = {{"steady_noise_estimate", "1"}};
 constexpr const char* kProfileText = "default, hud, world-only or noisy";
 
