@@ -18,6 +18,7 @@ const float kQuantVar = (0.5 / 255.0) * (0.5 / 255.0);
 // the same constants).
 const bool kNoiseAware = kMode == 4 && (kSteadyBoxSwitches & 8) != 0;
 const bool kNoiseSampled = kMode == 4 && (kSteadyBoxSwitches & 16) != 0;
+const bool kNoiseResidualSampled = kMode == 4 && (kSteadyBoxSwitches & 32) != 0;  // round 14
 const int kNoiseBins = 64;
 const float kNoiseBinsPerOctave = 4.0;
 const float kNoiseLowestLog2 = -16.0;
@@ -180,7 +181,7 @@ void recordNoiseSamples(ivec2 p, ivec2 o, bool historyConfirmed, vec2 q) {
   addNoiseSample(abs(toYCoCg(corners - 2.0 * edges + 4.0 * blockAt(o, 0, 0)).x) * (1.0 / 6.0), 0);
   // Jittered input: the residual would hold the jitter's own sample differences; no estimate then.
   const bool jittered = kJitter && any(notEqual(P.jitterPx, vec2(0.0)));
-  if (historyConfirmed && !jittered && all(lessThan(p + 2, P.src0Size)))
+  if (kNoiseResidualSampled && historyConfirmed && !jittered && all(lessThan(p + 2, P.src0Size)))
     addNoiseSample(residualDetail(p, o, q), 1);
 }
 

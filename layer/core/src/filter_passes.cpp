@@ -228,7 +228,9 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
                 (oneSidedBox && params.steadyClipCurvatureCentredGated && sw.historyEncoding == 0 ? 4 : 0) |
                 // Round 13: the box widened by the noise, and the histogram that estimates it.
                 (params.steadyNoiseEstimate || params.steadyNoiseVariance > 0.0f ? 8 : 0) |
-                (params.steadyNoiseEstimate ? 16 : 0)
+                (params.steadyNoiseEstimate ? 16 : 0) |
+                // Round 14: the residual's histogram, only where the host reads it.
+                (params.steadyNoiseEstimate && params.steadyNoiseResidualOverTime ? 32 : 0)
           : 0};
 }
 
