@@ -127,8 +127,10 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyConfidence = value != 0.0f;
     else if (key == "reject")
       params->steadyClipRejects = value != 0.0f;
-    else if (key == "noiseest")  // round 13's option (off by default): steady estimates the render's noise
+    else if (key == "noiseest")  // rounds 13-15 (the default since 15): steady estimates the render's noise
       params->steadyNoiseEstimate = value != 0.0f;
+    else if (key == "noisechange")  // round 15: 0 = round 14's estimate, no test for a change as a whole
+      params->steadyNoiseChangeTest = value != 0.0f;
     else if (key == "noisetime")  // round 14: 0 = round 13's estimate, the frame's own detail alone
       params->steadyNoiseResidualOverTime = value != 0.0f;
     else if (key == "noisevar") {  // told instead: a variance per linear RGB channel, < 0: the scene's own
@@ -174,7 +176,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
           "unknown parameter '" + key +
           "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, tapcurv, sclip, d, catmull, floor, conf, "
           "reject, boxcur, curvbox, curvkappa, clip, blur, footprint, fpenc, bluraxis, jrecentre, near, "
-          "interp, curvcentre, curvgate, curvinner, quantsrgb, noiseest, noisetime, noisevar, history=16|8, "
+          "interp, curvcentre, curvgate, curvinner, quantsrgb, noiseest, noisetime, noisechange, noisevar, "
+          "history=16|8, "
           "dither after history=8)";
       return false;
     }

@@ -20,6 +20,12 @@ const bool kNoiseAware = kMode == 4 && (kSteadyBoxSwitches & 8) != 0;
 const bool kNoiseSampled = kMode == 4 && (kSteadyBoxSwitches & 16) != 0;
 const bool kNoiseResidualSampled = kMode == 4 && (kSteadyBoxSwitches & 32) != 0;  // round 14
 const int kNoiseBins = 64;
+const int kNoiseHistograms = 2;
+const int kResidualSums = 2;  // after the histograms (round 15)
+// The record's copies, by workgroup, each on 64-byte lines of its own (noise_estimate.h, kNoiseCopies).
+const int kNoiseCopies = 8;
+const int kNoiseCopyStride = (kNoiseHistograms * kNoiseBins + kResidualSums + 15) / 16 * 16;
+uint noiseCopyBase() { return uint(kNoiseCopyStride) * (gl_WorkGroupID.x % uint(kNoiseCopies)); }
 const float kNoiseBinsPerOctave = 4.0;
 const float kNoiseLowestLog2 = -16.0;
 layout(set = 0, binding = 9, std430) buffer NoiseHistogram { uint noiseBins[]; };
@@ -121,7 +127,7 @@ void addNoiseSample(float absDetail, int histogram) {
   if (!(absDetail >= 0.0)) return;  // NaN
   const float octaves = log2(max(absDetail, 1e-30)) - kNoiseLowestLog2;
   const int bin = octaves < 0.0 ? 0 : min(int(kNoiseBinsPerOctave * octaves) + 1, kNoiseBins - 1);
-  atomicAdd(noiseBins[histogram * kNoiseBins + bin], 1u);
+  atomicAdd(noiseBins[noiseCopyBase() + histogram * kNoiseBins + bin], 1u);
 }
 // The sampled pixels: in a 4x4 block the one at (2, 2), known when the block's calls are written out.
 bool noiseSamplePixel(ivec2 p, ivec2 o) {
@@ -174,15 +180,29 @@ float residualDetail(ivec2 p, ivec2 o, vec2 q) {
     }
   return abs(detail) * (1.0 / 6.0);
 }
-void recordNoiseSamples(ivec2 p, ivec2 o, bool historyConfirmed, vec2 q) {
+// Round 15: the residual's luma at the pixel itself, summed over the frame with its magnitude (fixed
+// point, 2^-11; clamped to +-1/2, a change beyond doubt, so that 2^21 samples, two eyes of 4096^2,
+// cannot overflow). Noise's residual averages out over a frame; a picture that changes as a whole (a
+// fade) leaves a mean, and the host then drops the noise allowance (noise_estimate.h, residualMeanSide).
+const float kResidualSumScale = 2048.0;
+void addResidualSums(float residual) {
+  if (!(abs(residual) <= 1e30)) return;  // NaN, inf
+  const int scaled = int(round(clamp(residual, -0.5, 0.5) * kResidualSumScale));
+  const uint sums = noiseCopyBase() + kNoiseHistograms * kNoiseBins;
+  atomicAdd(noiseBins[sums], uint(scaled));  // two's complement: a signed sum
+  atomicAdd(noiseBins[sums + 1], uint(abs(scaled)));
+}
+void recordNoiseSamples(ivec2 p, ivec2 o, bool historyConfirmed, vec2 q, float centreResidual) {
   if (!noiseSamplePixel(p, o) || any(greaterThanEqual(p + 1, P.src0Size))) return;
   const vec3 corners = blockAt(o, -1, -1) + blockAt(o, 1, -1) + blockAt(o, -1, 1) + blockAt(o, 1, 1);
   const vec3 edges = blockAt(o, 0, -1) + blockAt(o, -1, 0) + blockAt(o, 1, 0) + blockAt(o, 0, 1);
   addNoiseSample(abs(toYCoCg(corners - 2.0 * edges + 4.0 * blockAt(o, 0, 0)).x) * (1.0 / 6.0), 0);
   // Jittered input: the residual would hold the jitter's own sample differences; no estimate then.
   const bool jittered = kJitter && any(notEqual(P.jitterPx, vec2(0.0)));
-  if (kNoiseResidualSampled && historyConfirmed && !jittered && all(lessThan(p + 2, P.src0Size)))
+  if (kNoiseResidualSampled && historyConfirmed && !jittered && all(lessThan(p + 2, P.src0Size))) {
     addNoiseSample(residualDetail(p, o, q), 1);
+    addResidualSums(centreResidual);
+  }
 }
 
 // Branch-free around texture reads, stores skipped past the edge (see PROCESS_BLOCK).
@@ -251,7 +271,7 @@ void processPixel(ivec2 p, ivec2 o) {
     float iz;
     const bool confirmed = reproject(P.reproj[0], pc, invZ, q, iz) && historyValid;
     vec4 hs = sampleHistoryRgba(q);  // q is clamped into the image inside
-    if (kNoiseSampled && inRange) recordNoiseSamples(p, o, confirmed, q);
+    if (kNoiseSampled && inRange) recordNoiseSamples(p, o, confirmed, q, toYCoCg(fc - hs.rgb).x);
     // Params::steadyClipCurvatureCentredGated (an option, off): the sign of the history's alpha is the
     // side of the current estimate its luma lay on last frame (negative: above). A history lagging
     // content that changes in place stays on one side; one averaging aliased detail flips at random.

@@ -23,6 +23,7 @@ constexpr float kPi = 3.14159265358979f;
 // `gated`: round 10's option (off by default), the one-sided box only where the history lags on one side.
 Params steadyWithCurvatureBox(bool on, bool centred = false, bool gated = false) {
   Params p = *applyMethodName("steady");
+  p.steadyNoiseEstimate = false;  // the box alone (round 15's default widens it by the render's noise)
   p.steadyClipCurvature = on;
   p.steadyClipCurvatureCentred = centred;
   p.steadyClipCurvatureCentredGated = gated;

@@ -78,6 +78,17 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
   const float maxCount = 1.0f / p.steadyAlphaFloor;
   const HostImage alphas = alphaImage(hist);                 // once per frame, not per pixel
   const float quantVar = (0.5f / 255.0f) * (0.5f / 255.0f);  // half an 8-bit step, squared
+  // The render's noise, told (Params::steadyNoiseVariance; the host's estimate is checked in
+  // steady_noise_test.cpp): the box widened by one pixel's noise in each YCoCg channel. Independent
+  // RGB channels of variance v give a linear combination with row r the variance v |r|^2.
+  vec3 noiseVar(0.0f);
+  if (!p.steadyNoiseEstimate && p.steadyNoiseVariance > 0.0f)
+    for (int rgb = 0; rgb < 3; ++rgb) {
+      vec3 unit(0.0f);
+      unit[rgb] = 1.0f;
+      const vec3 row = toYCoCg(unit);  // this RGB channel's weight in Y, Co, Cg
+      noiseVar += p.steadyNoiseVariance * row * row;
+    }
   for (uint32_t y = 0; y < cur.height; ++y)
     for (uint32_t x = 0; x < cur.width; ++x) {
       // Jittered input (a jitter of exactly (0, 0) is an unjittered frame): sample (i, j) of the
@@ -169,7 +180,8 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
             }
           }
           float box =
-              std::sqrt(boxVar + (p.steadyClipQuantSrgb && srgbInput ? srgbHalfStepVar(mean.x) : quantVar));
+              std::sqrt(boxVar + (p.steadyClipQuantSrgb && srgbInput ? srgbHalfStepVar(mean.x) : quantVar) +
+                        noiseVar[ch]);
           const bool currentOnHistorySide = (h[ch] - centre[ch]) * (areaY[ch] - centre[ch]) >= 0.0f;
           if (p.steadyClipHoldsCurrent && currentOnHistorySide)
             box = std::max(box, std::abs(areaY[ch] - centre[ch]));

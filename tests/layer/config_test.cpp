@@ -133,6 +133,7 @@ TEST(Config, SteadyKeys) {
           "steady_clip_holds_current = on\nsteady_clip_curvature = off\n"
           "steady_clip_curvature_centred = off\nsteady_clip_curvature_centred_gated = on\n"
           "steady_clip_quant_srgb = off\nsteady_noise_estimate = on\nsteady_noise_residual_over_time = off\n"
+          "steady_noise_change_test = off\n"
           "stereo_inverse_variance = off\n"
           "stereo_tap_curvature = off\nstereo_clip_gamma_after_steady = 1.5\n",
           &messages),
@@ -156,6 +157,7 @@ TEST(Config, SteadyKeys) {
   EXPECT_FALSE(c.params.steadyClipQuantSrgb);             // on by default: off here shows the key is read
   EXPECT_TRUE(c.params.steadyNoiseEstimate);              // off by default: on here shows the key is read
   EXPECT_FALSE(c.params.steadyNoiseResidualOverTime);
+  EXPECT_FALSE(c.params.steadyNoiseChangeTest);  // on by default: off here shows the key is read
   EXPECT_FALSE(c.params.stereoInverseVariance);
   EXPECT_FALSE(c.params.stereoTapCurvature);
   EXPECT_FLOAT_EQ(c.params.stereoClipGammaAfterSteady, 1.5f);
@@ -234,6 +236,7 @@ TEST(Config, ProfilesApplyWhereTheyAreNamed) {
   EXPECT_EQ(c.profile, "noisy");
   EXPECT_TRUE(c.params.steadyNoiseEstimate);
   EXPECT_TRUE(c.params.steadyNoiseResidualOverTime);
+  EXPECT_TRUE(c.params.steadyNoiseChangeTest);
 
   // A profile in the app's section wins over the global part's keys and loses to the section's.
   c = resolve(

@@ -57,8 +57,8 @@ void usage() {
                "one-sided curvature box and the sRGB quantisation floor, or not\n"
                "(steadyClipCurvatureCentred, steadyClipQuantSrgb); @curvgate: the one-sided box only\n"
                "where the history lags on one side (steadyClipCurvatureCentredGated, an option);\n"
-               "@noisy: the render's noise estimated and steady aware of it (steadyNoiseEstimate, the\n"
-               "profile noisy).\n";
+               "@noisy, @noisy=0: the render's noise estimated and the box widened by it, or not\n"
+               "(steadyNoiseEstimate; the default since round 15).\n";
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -285,8 +285,10 @@ std::optional<Params> methodParams(const std::string& spec) {
       params->steadyClipQuantSrgb = true;
     else if (suffix == "quantsrgb=0")  // the default with the linear floor (round 7's cost comparison)
       params->steadyClipQuantSrgb = false;
-    else if (suffix == "noisy")  // round 13's profile: the noise estimate and the noise-aware box and guard
+    else if (suffix == "noisy")  // the noise estimate and the box widened by it (the default since round 15)
       params->steadyNoiseEstimate = true;
+    else if (suffix == "noisy=0")  // the default without it (the default before round 15)
+      params->steadyNoiseEstimate = false;
     else
       return std::nullopt;
   }

@@ -188,7 +188,7 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
       {},  // 9: the noise histogram
   }};
   const VkDescriptorBufferInfo bi{s.ubo.get(), offset, sizeof(PassUniforms)};
-  const VkDescriptorBufferInfo noiseInfo{s.ubo.get(), s.noiseOffset, detail::kNoiseHistogramBytes};
+  const VkDescriptorBufferInfo noiseInfo{s.ubo.get(), s.noiseOffset, detail::kNoiseBufferBytes};
   std::array<VkWriteDescriptorSet, kBindings> w{};
   for (uint32_t i = 0; i < w.size(); ++i) {
     w[i] = {};

@@ -168,7 +168,7 @@ bool Filter::Impl::init(std::string* error) {
     const VkDeviceSize storageAlign =
         std::max<VkDeviceSize>(props.limits.minStorageBufferOffsetAlignment, 16);
     s.noiseOffset = (uboStride * kMaxDispatches + storageAlign - 1) / storageAlign * storageAlign;
-    bci.size = s.noiseOffset + detail::kNoiseHistogramBytes;
+    bci.size = s.noiseOffset + detail::kNoiseBufferBytes;
     bci.usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     VkBuffer buf = VK_NULL_HANDLE;
     if (vkCreateBuffer(device, &bci, nullptr, &buf) != VK_SUCCESS)
@@ -191,7 +191,7 @@ bool Filter::Impl::init(std::string* error) {
     vkBindBufferMemory(device, buf, mem, 0);
     if (vkMapMemory(device, mem, 0, VK_WHOLE_SIZE, 0, &s.mapped) != VK_SUCCESS)
       return fail(error, "vkMapMemory failed"), false;  // freed memory is implicitly unmapped
-    std::memset(noiseBins(s), 0, detail::kNoiseHistogramBytes);
+    std::memset(noiseBins(s), 0, detail::kNoiseBufferBytes);
     if (timestamps) {
       VkQueryPoolCreateInfo qpci{};
       qpci.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
@@ -234,10 +234,11 @@ void Filter::Impl::collect(Slot& s) {
   vkResetFences(device, 1, &fence);
   s.pending = false;
   if (s.noiseSampled && s.frameIndex >= noiseNextFrame) {
-    noiseTracker.add(noiseBins(s), params.steadyFootprint, params.steadyNoiseResidualOverTime);
+    noiseTracker.add(detail::mergeNoiseCopies(noiseBins(s)).data(), params.steadyFootprint,
+                     params.steadyNoiseResidualOverTime, params.steadyNoiseChangeTest);
     noiseNextFrame = s.frameIndex + 1;
   }
-  if (s.noiseSampled) std::memset(noiseBins(s), 0, detail::kNoiseHistogramBytes);
+  if (s.noiseSampled) std::memset(noiseBins(s), 0, detail::kNoiseBufferBytes);
   s.noiseSampled = false;
   if (!s.timed || !s.queries) return;
   std::array<uint64_t, kQueries> ts{};

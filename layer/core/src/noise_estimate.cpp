@@ -8,9 +8,18 @@ namespace steadyxr::core::detail {
 namespace {
 // The median of |N(0, 1)|: Phi^-1(3/4).
 constexpr double kMedianAbsNormal = 0.6744897501960817;
+constexpr double kPi = 3.14159265358979323846;
 // Var(Y) / Var(a channel) for Y = R/4 + G/2 + B/4 of independent channels of equal variance.
 constexpr double kLumaShareOfChannelVariance = 1.0 / 16.0 + 1.0 / 4.0 + 1.0 / 16.0;
 }  // namespace
+
+std::array<uint32_t, kNoiseRecordWords> mergeNoiseCopies(const uint32_t* buffer) {
+  std::array<uint32_t, kNoiseRecordWords> record{};
+  for (uint32_t copy = 0; copy < kNoiseCopies; ++copy)
+    for (uint32_t w = 0; w < kNoiseRecordWords; ++w)
+      record[w] += buffer[copy * kNoiseCopyStrideWords + w];  // modulo 2^32: the signed sum stays exact
+  return record;
+}
 
 uint32_t noiseBin(float absDetail) {
   if (!(absDetail >= std::exp2(kNoiseLowestLog2))) return 0;  // also NaN
@@ -41,7 +50,19 @@ float footprintDetailGain(float footprintK) {
   return static_cast<float>(normSquared / 6.0);
 }
 
-void NoiseTracker::add(const uint32_t* bins, float footprintK, bool residualOverTime) {
+int residualMeanSide(const uint32_t* bins) {
+  uint64_t samples = 0;
+  for (uint32_t b = 0; b < kNoiseBins; ++b) samples += bins[kNoiseBins + b];
+  const uint32_t* sums = bins + kNoiseHistograms * kNoiseBins;
+  const double sum = static_cast<int32_t>(sums[0]), magnitude = sums[1];
+  if (samples < 2 || magnitude <= 0.0) return 0;
+  const double n = static_cast<double>(samples);
+  const double sigma = std::sqrt(kPi / 2.0) * magnitude / n;  // in the sums' units
+  if (std::abs(sum / n) < kChangeTestStandardErrors * sigma / std::sqrt(n)) return 0;
+  return sum > 0.0 ? 1 : -1;
+}
+
+void NoiseTracker::add(const uint32_t* bins, float footprintK, bool residualOverTime, bool changeTest) {
   const std::optional<float> spatial = noiseVarianceFromHistogram(bins);
   if (!residualOverTime) {
     if (spatial) variance_ = spatial;
@@ -50,6 +71,7 @@ void NoiseTracker::add(const uint32_t* bins, float footprintK, bool residualOver
   const std::optional<float> residual = noiseVarianceFromHistogram(bins + kNoiseBins);
   if (!spatial || !residual) {  // no history yet (a reset, a first frame): start the window again
     residualFrames_ = 0;
+    meanSideRun_ = 0;
     variance_.reset();
     return;
   }
@@ -60,6 +82,13 @@ void NoiseTracker::add(const uint32_t* bins, float footprintK, bool residualOver
   // While the window fills (the frames after a start), the residuals it has: a history of one frame
   // holds that frame's noise too, so it caps noise less, never more.
   variance_ = std::min(*spatial, *std::min_element(residual_.begin(), residual_.begin() + residualFrames_));
+  // A fade's lag is first order and on one side in every pixel; a box widened by the noise would let
+  // it through at up to the noise's own size, `none`'s error. While the picture changes as a whole
+  // the box is the default's (round 15).
+  const int side = residualMeanSide(bins);
+  const int run = side == 0 ? 0 : (side > 0) == (meanSideRun_ > 0) ? meanSideRun_ + side : side;
+  meanSideRun_ = std::clamp(run, -kChangeRunFrames, kChangeRunFrames);  // a fade may last for ever
+  if (changeTest && std::abs(meanSideRun_) >= kChangeRunFrames) variance_ = 0.0f;
 }
 
 }  // namespace steadyxr::core::detail

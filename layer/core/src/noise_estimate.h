@@ -28,11 +28,30 @@ constexpr float kNoiseBinsPerOctave = 4.0f;
 constexpr float kNoiseLowestLog2 = -16.0f;
 // Two histograms: [0, kNoiseBins) the frame's own detail, [kNoiseBins, 2 kNoiseBins) the residual's.
 constexpr uint32_t kNoiseHistograms = 2;
-constexpr uint32_t kNoiseHistogramBytes = kNoiseHistograms * kNoiseBins * sizeof(uint32_t);
+// Round 15: after the histograms, the residual's luma summed over its samples, and its magnitude, in
+// units of 1/kResidualSumScale (the first a signed sum in two's complement).
+constexpr uint32_t kResidualSums = 2;
+constexpr float kResidualSumScale = 2048.0f;
+constexpr uint32_t kNoiseRecordWords = kNoiseHistograms * kNoiseBins + kResidualSums;  // one frame's record
+constexpr uint32_t kNoiseHistogramBytes = kNoiseRecordWords * sizeof(uint32_t);
+// The GPU adds to kNoiseCopies copies of the record, each on cache lines of its own (a stride of
+// kNoiseCopyStrideWords), by workgroup: on a CPU device (lavapipe) the cores then rarely add to the
+// same line at once. The host adds the copies up (mergeNoiseCopies). Same as temporal.comp's.
+constexpr uint32_t kNoiseCopies = 8;
+constexpr uint32_t kNoiseCopyStrideWords = (kNoiseRecordWords + 15) / 16 * 16;  // 64-byte lines
+constexpr uint32_t kNoiseBufferBytes = kNoiseCopies * kNoiseCopyStrideWords * sizeof(uint32_t);
+// Round 15: the residual's mean is off 0 (a fade, a shift) when it lies this many standard errors
+// from 0. Noise's residual has mean 0 wherever the history holds; 4 standard errors is a false
+// alarm in about 1 frame of 16,000 (the normal's two tails), and the standard error is taken from the
+// residual's mean magnitude as a normal's (sigma = sqrt(pi / 2) E|r|).
+constexpr double kChangeTestStandardErrors = 4.0;
 // The residual estimates the smallest is taken over. Content at a lower rate than the display (24-60
 // fps video at 72-120 Hz) changes in at most 2 of any 3 consecutive frames; 4 frames hold one more
 // frame without a change. Noise is new in every frame.
 constexpr size_t kResidualWindowFrames = 4;
+
+// The record of a frame: the sum of the GPU's kNoiseCopies copies in `buffer` (kNoiseBufferBytes).
+std::array<uint32_t, kNoiseRecordWords> mergeNoiseCopies(const uint32_t* buffer);
 
 // The bin of one |d| (what the shader computes), for the tests.
 uint32_t noiseBin(float absDetail);
@@ -47,11 +66,24 @@ std::optional<float> noiseVarianceFromHistogram(const uint32_t* bins);
 // one axis; the two axes multiply, the standard deviation is its square root. 0.7425 at k = 1/24.
 float footprintDetailGain(float footprintK);
 
-// The render's noise estimate over frames: each finished frame adds its two histograms.
+// The frames in a row whose residual's mean must lie on one side (round 15). A fade's lag keeps its
+// side frame after frame; a shift of the picture leaves a mean too (tremor over a ramp or a banded
+// gradient moves every band edge one way), but its side follows the head's to-and-fro. Two frames is
+// the fewest that tell the two apart; measured, three let a fade over 1-px lines reach 1.42x `none`'s
+// in a frame (held-out seed 32), where two hold it at 1.00x.
+constexpr int kChangeRunFrames = 2;
+
+// Round 15: the side of the residual's mean (the sums after the two histograms) where it lies
+// kChangeTestStandardErrors standard errors or more from 0: +1 above, -1 below, 0 within.
+int residualMeanSide(const uint32_t* bins);
+
+// The render's noise estimate over frames: each finished frame adds its record (two histograms, two sums).
 class NoiseTracker {
  public:
-  // residualOverTime = false: round 13's estimate, the frame's own detail alone.
-  void add(const uint32_t* bins, float footprintK, bool residualOverTime);
+  // residualOverTime = false: round 13's estimate, the frame's own detail alone. changeTest: the
+  // estimate is 0 while the residual's mean lies on one side of 0 in kChangeRunFrames frames in a
+  // row: the picture changes as a whole (round 15).
+  void add(const uint32_t* bins, float footprintK, bool residualOverTime, bool changeTest);
   void reset() { *this = NoiseTracker{}; }
   // The variance per linear RGB channel; none until a frame (with residualOverTime: a frame with a
   // history) gave an estimate.
@@ -61,6 +93,7 @@ class NoiseTracker {
   std::array<float, kResidualWindowFrames> residual_{};
   size_t residualFrames_ = 0;  // residual estimates in a row, up to the window
   std::optional<float> variance_;
+  int meanSideRun_ = 0;  // frames in a row whose residual's mean lay on one side; its sign the side
 };
 
 }  // namespace steadyxr::core::detail

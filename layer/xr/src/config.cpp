@@ -121,6 +121,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_clip_quant_srgb", &core::Params::steadyClipQuantSrgb},
     {"steady_noise_estimate", &core::Params::steadyNoiseEstimate},
     {"steady_noise_residual_over_time", &core::Params::steadyNoiseResidualOverTime},
+    {"steady_noise_change_test", &core::Params::steadyNoiseChangeTest},
     {"stereo_inverse_variance", &core::Params::stereoInverseVariance},
     {"stereo_tap_curvature", &core::Params::stereoTapCurvature},
 };
@@ -139,8 +140,9 @@ constexpr ProfileSetting kHudProfile[] = {{"steady_blur_budget_px2", "0.0104"},
 // on the one-sided box (fresh static draws 0.744 and 0.735 of none's against 0.791 and 0.789).
 constexpr ProfileSetting kWorldOnlyProfile[] = {{"steady_clip_curvature_centred_gated", "1"}};
 // noisy: an app whose eye images carry per-frame noise (film grain, a path tracer, dithered
-// transparency): the render's noise estimated and the clip box widened by it (rounds 13-14: six
-// all-noisy draws 0.71-0.75 of none's against the default's 0.79-0.82).
+// transparency): the render's noise estimated and the clip box widened by it. Rounds 13-14's option;
+// the default since round 15, so the profile sets what the default has (a config that names it keeps
+// working, and it turns the estimate back on over a global steady_noise_estimate = 0).
 constexpr ProfileSetting kNoisyProfile[] = {{"steady_noise_estimate", "1"}};
 constexpr const char* kProfileText = "default, hud, world-only or noisy";
 

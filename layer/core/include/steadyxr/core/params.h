@@ -151,26 +151,29 @@ struct Params {
   // none's), and a head-locked HUD is content that moves in place too (held out: frames up to 1.21x).
   // For apps without video or a HUD drawn into the eye images.
   bool steadyClipCurvatureCentredGated = false;
-  // Issue 14 round 13, an option, off (docs/method-history.md, round 13): the render's per-frame
-  // noise (a path tracer's, film grain, dithered transparency) estimated from the frames, and the
-  // clip box widened by one pixel's noise variance: a history may differ from the box by as much
-  // as the noisy render itself differs from the truth (none's own error). The estimate: Donoho and
-  // Johnstone's robust scale, sigma = median |d| / 0.6745, over the luma's x^2 y^2 contrast d of the
-  // 3x3 at one pixel in 16 (the finest diagonal detail), 3x3s with none of it (flat, masked) left out, from
-  // the newest frame the GPU has finished. Why: without it the box (items 6 and 7, built from
-  // second differences) clips a good history to a noisy centre, and plain taa beat the default on
-  // noisy renders. Why not the default: one frame cannot tell fine aliased detail (1-px lines,
-  // small text, gratings) from noise, so on a clean render the estimate reads that detail as noise
-  // and the widened box lets the lag of content that changes in place through. Round 14's cap
-  // (below) takes most of that detail out, but a fade's lag is in the residual too: one clean fade
-  // still reaches 1.22x none's in a frame. The profile `noisy` sets it.
-  bool steadyNoiseEstimate = false;
+  // Issue 14 rounds 13-15, the default since round 15 (README, the default's item 9): the render's
+  // per-frame noise (a path tracer's, film grain, dithered transparency) estimated from the frames,
+  // and the clip box widened by one pixel's noise variance: a history may differ from the box by as
+  // much as the noisy render itself differs from the truth (none's own error). The estimate: Donoho
+  // and Johnstone's robust scale, sigma = median |d| / 0.6745, over the luma's x^2 y^2 contrast d of
+  // the 3x3 at one pixel in 16 (the finest diagonal detail), 3x3s with none of it (flat, masked) left
+  // out, from the newest frame the GPU has finished. Why: without it the box (items 6 and 7, built
+  // from second differences) clips a good history to a noisy centre, and plain taa beat the default
+  // on noisy renders. One frame cannot tell fine aliased detail from noise; rounds 14 and 15 (below)
+  // keep a clean render's detail and a fade's lag out of it. false: the default before round 15.
+  bool steadyNoiseEstimate = true;
   // Round 14: the estimate confirmed over time (noise_estimate.h): the same detail of the residual
   // between this frame's footprint estimate and the reprojected history, the smallest of the last 4
   // frames, caps the frame's own. Noise is new in every frame; a picture's fine detail is in the
   // history too, and the window leaves out the first frames of a change in place (video below the
   // display rate). false: round 13's estimate (the frame's own detail alone).
   bool steadyNoiseResidualOverTime = true;
+  // Round 15 (with steadyNoiseEstimate and steadyNoiseResidualOverTime): no noise allowance while the
+  // residual's mean over the frame lies on one side of 0 in two frames in a row (a fade, any change of
+  // the picture as a whole). Noise's residual averages out; a fade's lag is on one side in every pixel,
+  // and a box widened by the noise lets it through (a clean fade reached 1.22x none's in a frame).
+  // false: round 14's estimate.
+  bool steadyNoiseChangeTest = true;
   // The noise variance per linear RGB channel to use when steadyNoiseEstimate is off (0 = a clean
   // render: steady as before round 13). The eval tells it the scene's own (noisevar=-1).
   float steadyNoiseVariance = 0.0f;
