@@ -58,7 +58,7 @@ history_format, profile, and the steady_* and stereo_* pass keys (layer/xr/READM
 profiles (`set --app NAME profile=hud`; a key set in the same or a more specific place wins):
   hud         the app draws head-locked content (a HUD, a reticle) into its eye images
   world-only  the app's eye images hold world content only: no video, no HUD (more accuracy)
-  noisy       the app's eye images carry per-frame noise: film grain, a path tracer, dithering
+  noisy       the app's eye images carry per-frame noise (the default's noise estimate, on)
   default     no profile (README: "Profiles for kinds of app")
 
 exit status: 0 done, 1 error (config untouched), 2 usage error.
