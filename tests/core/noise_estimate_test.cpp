@@ -86,7 +86,7 @@ double detailOfFilteredNoiseRatio(double k) {
   return std::sqrt(normSquared) / 6.0;
 }
 
-constexpr size_t kBufferWords = kNoiseHistogramBytes / sizeof(uint32_t);
+constexpr size_t kBufferWords = kNoiseRecordWords;  // one frame's record, as the tracker reads it
 constexpr int kResidualSamples = 20000;
 
 // The residual's two sums over kResidualSamples luma residuals drawn from N(mean, sigma), in the

@@ -33,7 +33,6 @@ constexpr uint32_t kNoiseHistograms = 2;
 constexpr uint32_t kResidualSums = 2;
 constexpr float kResidualSumScale = 2048.0f;
 constexpr uint32_t kNoiseRecordWords = kNoiseHistograms * kNoiseBins + kResidualSums;  // one frame's record
-constexpr uint32_t kNoiseHistogramBytes = kNoiseRecordWords * sizeof(uint32_t);
 // The GPU adds to kNoiseCopies copies of the record, each on cache lines of its own (a stride of
 // kNoiseCopyStrideWords), by workgroup: on a CPU device (lavapipe) the cores then rarely add to the
 // same line at once. The host adds the copies up (mergeNoiseCopies). Same as temporal.comp's.
