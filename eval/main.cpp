@@ -52,7 +52,8 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        curvinner,quantsrgb (rounds 7-8: content changes), curvgate (round 10),
                        noiseest=0 (no noise estimate: the default before round 15), noisetime=0 (round 13's, the
                        frame's own detail alone), noisechange=0 (round 14's, no
-                       test for a change as a whole), noisevar=V (a noise variance
+                       test for a change as a whole), gain=0 (round 15's: no gain
+                       compensation), noisevar=V (a noise variance
                        told instead; -1: the scene's own), history=16|8
                        (the history's bits per channel) and dither=0|1 after history=8
                        (default: all + sweeps)

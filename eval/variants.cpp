@@ -131,6 +131,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyNoiseEstimate = value != 0.0f;
     else if (key == "noisechange")  // round 15: 0 = round 14's estimate, no test for a change as a whole
       params->steadyNoiseChangeTest = value != 0.0f;
+    else if (key == "gain")  // round 16 (the default): 0 = no gain compensation (round 15's default)
+      params->steadyGainCompensation = value != 0.0f;
     else if (key == "noisetime")  // round 14: 0 = round 13's estimate, the frame's own detail alone
       params->steadyNoiseResidualOverTime = value != 0.0f;
     else if (key == "noisevar") {  // told instead: a variance per linear RGB channel, < 0: the scene's own
@@ -176,7 +178,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
           "unknown parameter '" + key +
           "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, tapcurv, sclip, d, catmull, floor, conf, "
           "reject, boxcur, curvbox, curvkappa, clip, blur, footprint, fpenc, bluraxis, jrecentre, near, "
-          "interp, curvcentre, curvgate, curvinner, quantsrgb, noiseest, noisetime, noisechange, noisevar, "
+          "interp, curvcentre, curvgate, curvinner, quantsrgb, noiseest, noisetime, noisechange, gain, "
+          "noisevar, "
           "history=16|8, "
           "dither after history=8)";
       return false;

@@ -13,6 +13,7 @@ const int kSteady = 4;
 // Smallest clip extent, as a variance: half an 8-bit step squared. A flat 3x3 has sigma = 0, and
 // a history off by less than the input's own quantisation is no evidence of a wrong history.
 const float kQuantVar = (0.5 / 255.0) * (0.5 / 255.0);
+const float kIecSlopeScale2 = (2.4 / 1.055) * (2.4 / 1.055);  // the sRGB curve's 2.4 / 1.055, squared
 // Round 13 (Params::steadyNoiseEstimate, an option): the clip box widened by the render's noise
 // (kSteadyBoxSwitches bit 3) and the histogram that estimates it (bit 4; layer/core/src/noise_estimate.h,
 // the same constants).
@@ -26,6 +27,14 @@ const int kResidualSums = 2;  // after the histograms (round 15)
 const int kNoiseCopies = 8;
 const int kNoiseCopyStride = (kNoiseHistograms * kNoiseBins + kResidualSums + 15) / 16 * 16;
 uint noiseCopyBase() { return uint(kNoiseCopyStride) * (gl_WorkGroupID.x % uint(kNoiseCopies)); }
+// Round 16 (Params::steadyGainCompensation): the frame's gain, probed before the pass (bit 7: this
+// dispatch is the probe, probeGain) and read by it (bit 6: frameGain, once per invocation). The probe's record follows the noise
+// record's copies, in copies of its own (noise_estimate.h, kGainRecordWords and on: 4 words of 16).
+const bool kGainCompensated = kMode == 4 && (kSteadyBoxSwitches & 64) != 0;
+const int kGainCopyStride = 16;
+const uint kGainBase = uint(kNoiseCopies * kNoiseCopyStride);
+const float kLumaSumScale = 1024.0;
+const float kPi = 3.14159265358979;
 const float kNoiseBinsPerOctave = 4.0;
 const float kNoiseLowestLog2 = -16.0;
 layout(set = 0, binding = 9, std430) buffer NoiseHistogram { uint noiseBins[]; };
@@ -205,6 +214,46 @@ void recordNoiseSamples(ivec2 p, ivec2 o, bool historyConfirmed, vec2 q, float c
   }
 }
 
+// Round 16: the probe, one pixel in 16 (of each 4x4 block, the one at (2, 2)), both eyes into one
+// record: the luma of this frame and of the history reprojected through the previous pose, summed (in
+// [0, 1], units 2^-10: 2^21 samples, two eyes of 4096^2, cannot overflow), the magnitude of their
+// difference (as addResidualSums) and the samples.
+void probeGain(ivec2 p) {
+  if (any(greaterThanEqual(p, P.src0Size)) || P.historyValid == 0) return;
+  float invZ = P.fallbackInvZ;
+  if ((kDepthBits & 1) != 0) invZ = invZFromDepth(texelFetch(uDepth0, P.depth0Offset + p, 0).r, P.depth0);
+  vec2 q;
+  float iz;
+  if (!reproject(P.reproj[0], vec2(p) + 0.5, invZ, q, iz)) return;
+  const float current = clamp(toYCoCg(fetchSrc0(p)).x, 0.0, 1.0);
+  const float history = clamp(toYCoCg(sampleHistory(q)).x, 0.0, 1.0);
+  if (isnan(current) || isnan(history)) return;
+  const uint base = kGainBase + uint(kGainCopyStride) * (gl_WorkGroupID.x % uint(kNoiseCopies));
+  atomicAdd(noiseBins[base], uint(round(current * kLumaSumScale)));
+  atomicAdd(noiseBins[base + 1], uint(round(history * kLumaSumScale)));
+  atomicAdd(noiseBins[base + 2], uint(round(min(abs(current - history), 0.5) * kResidualSumScale)));
+  atomicAdd(noiseBins[base + 3], 1u);
+}
+// The frame's gain from the probe's record: this frame's luma over the history's where the mean of
+// their difference lies 4 standard errors or more from 0 (round 15's test, noise_estimate.h,
+// kChangeTestStandardErrors: sigma = sqrt(pi / 2) E|r|); 1 elsewhere.
+float frameGain() {
+  uint current = 0u, history = 0u, magnitude = 0u, samples = 0u;
+  [[unroll]] for (int c = 0; c < kNoiseCopies; ++c) {
+    const uint base = kGainBase + uint(kGainCopyStride * c);
+    current += noiseBins[base];
+    history += noiseBins[base + 1];
+    magnitude += noiseBins[base + 2];
+    samples += noiseBins[base + 3];
+  }
+  if (samples < 2u || magnitude == 0u || history == 0u) return 1.0;
+  const float n = float(samples);
+  const float meanDifference = float(int(current - history)) / (kLumaSumScale * n);
+  const float standardError = sqrt(0.5 * kPi) * float(magnitude) / (kResidualSumScale * n) * inversesqrt(n);
+  return abs(meanDifference) >= 4.0 * standardError ? float(current) / float(history) : 1.0;
+}
+float gFrameGain = 1.0;
+
 // Branch-free around texture reads, stores skipped past the edge (see PROCESS_BLOCK).
 void processPixel(ivec2 p, ivec2 o) {
   ivec2 size = P.src0Size;
@@ -308,10 +357,12 @@ void processPixel(ivec2 p, ivec2 o) {
       }
     }
     // Params::steadyClipQuantSrgb (the default; the host sets the bit only for sRGB input): the floor
-    // is half a step of the 8-bit input at the box mean's luma L, not in linear light. The slope
-    // d(linear)/d(code) is gamma 2's, 2 sqrt(L) (item 4's stand-in for sRGB), never below sRGB's
-    // linear toe 1/12.92; squared, so no sqrt or pow.
-    const float srgbSlope2 = max(4.0 * max(ymn.x, 0.0), 1.0 / (12.92 * 12.92));
+    // is half a step of the 8-bit input at the box mean's luma L, not in linear light. IEC 61966-2-1's
+    // slope d(linear)/d(code) is (2.4 / 1.055) L^(7/12) above its toe; L^(5/8) bounds it from below
+    // (0.79-1.0 of it over the codes), so the floor never reaches half a code and a history clipped
+    // onto it still rounds to the input's own code. Never below the toe's 1/12.92. Squared: L^(5/4).
+    const float level = clamp(ymn.x, 0.0, 1.0);
+    const float srgbSlope2 = max(kIecSlopeScale2 * level * sqrt(sqrt(level)), 1.0 / (12.92 * 12.92));
     const float floorSlope2 = (kSteadyBoxSwitches & 2) != 0 ? srgbSlope2 : 1.0;
     clipExt2 += kQuantVar * floorSlope2;
     // Params::steadyNoiseEstimate: the box widened by one pixel's noise, so that a history may differ
@@ -319,17 +370,42 @@ void processPixel(ivec2 p, ivec2 o) {
     // channel is 3/8, 1/2, 3/8 s2 per YCoCg channel). Three of the centre's standard deviations
     // (the three-sigma rule) let a fade's lag through at up to 3x none's error.
     if (kNoiseAware) clipExt2 += P.steadyNoiseVariance * vec3(0.375, 0.5, 0.375);
-    vec3 d = historyYCoCg - boxCentre;
     // Params::steadyClipHoldsCurrent (not the default): the box reaches out, on the history's side
     // and per channel, to the current frame's own estimate of the pixel's area average (fc).
-    vec3 toCur = estimateYCoCg - boxCentre;
-    clipExt2 = max(clipExt2, step(vec3(0.0), d * toCur) * toCur * toCur * P.steadyClipHoldsCurrent);
+    const vec3 toCur = estimateYCoCg - boxCentre;
+    const vec3 holdsCurrent2 = toCur * toCur * P.steadyClipHoldsCurrent;
+    const vec3 boxExt2 = clipExt2;  // before the reach, which depends on the history's side
+    vec3 d = historyYCoCg - boxCentre;
+    clipExt2 = max(boxExt2, step(vec3(0.0), d * toCur) * holdsCurrent2);
     vec3 t2v = d * d / clipExt2;
     float t2 = max(t2v.x, max(t2v.y, t2v.z));
+    const float asWasT2 = t2;  // the evidence against the count (below)
+    // Params::steadyGainCompensation (round 16): where the frame changed as a whole (a fade, an
+    // exposure change) the history times the frame's gain is a second candidate (FSR2's pre-exposure,
+    // estimated). It is taken only where the box rejects the history as it was, the relit one lies
+    // inside the box (the pixel's own content, relit) and nearer this frame's estimate fc (per channel in
+    // units of the box's extent): a sub-code fade over a flat 3x3 no longer clips onto the floor. A
+    // history the box admits keeps its value, so a gain that drifts by a few tenths of a percent (a
+    // video's zoom) cannot bias it pixel by pixel; a still surround beside changing content keeps its
+    // own. The evidence against the count stays the history's own (asWasT2): a relit history is a
+    // hypothesis the box admits, not a confirmation.
+    if (kGainCompensated && gFrameGain != 1.0) {  // uniform: no gain found, nothing to do
+      const vec3 relit = historyYCoCg * gFrameGain;
+      const vec3 relitD = relit - boxCentre;
+      const vec3 relitExt2 = max(boxExt2, step(vec3(0.0), relitD * toCur) * holdsCurrent2);
+      const vec3 relitT2v = relitD * relitD / relitExt2;
+      const float relitT2 = max(relitT2v.x, max(relitT2v.y, relitT2v.z));
+      const vec3 asWas = historyYCoCg - estimateYCoCg, scaled = relit - estimateYCoCg;
+      const bool nearer = dot(scaled * scaled / boxExt2, vec3(1.0)) < dot(asWas * asWas / boxExt2, vec3(1.0));
+      const bool takeRelit = t2 > 1.0 && relitT2 <= 1.0 && nearer;
+      d = takeRelit ? relitD : d;
+      clipExt2 = takeRelit ? relitExt2 : clipExt2;
+      t2 = takeRelit ? relitT2 : t2;
+    }
     vec3 h = t2 > 1.0 ? boxCentre + d * inversesqrt(t2) : boxCentre + d;
     const float cap = 1.0 / P.steadyAlphaFloor;
     float n = confirmed ? clamp(kHistoryEncoding != 0 ? hs.a * cap : hs.a, 0.0, cap) : 0.0;  // storeHistory
-    n *= t2 > 1.0 ? mix(1.0, 1.0 / t2, P.steadyClipRejects) : 1.0;
+    n *= asWasT2 > 1.0 ? mix(1.0, 1.0 / asWasT2, P.steadyClipRejects) : 1.0;
     float a = max(1.0 / (n + 1.0), P.steadyAlphaFloor);
     vec2 f = fract(q - 0.5);                // bilinear tap offset within the texel
     vec2 axisBlur = f * (1.0 - f);          // the tap's blur variance per axis, px^2
@@ -396,6 +472,12 @@ void processPixel(ivec2 p, ivec2 o) {
 
 void main() {
   ivec2 base = ivec2(gl_GlobalInvocationID.xy) * ivec2(kBlockW, kBlockH);
+  // The switches spelled out: glslang leaves a spec constant's expression undefined when main is its first use.
+  if (kMode == 4 && (kSteadyBoxSwitches & 128) != 0) {  // the probe: by 4x4 blocks on every device
+    probeGain(ivec2(gl_GlobalInvocationID.xy) * 4 + 2);
+    return;
+  }
+  if (kMode == 4 && (kSteadyBoxSwitches & 64) != 0) gFrameGain = frameGain();
   if (any(greaterThanEqual(base, P.src0Size))) return;
   if (kMode != kHmtaa) loadBlock(base, kMode == kTaa || kMode == kHybrid || kMode == kSteady);
   PROCESS_BLOCK(base);

@@ -109,6 +109,7 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   // The noise allowance is the host's estimate from the frames (round 15: on by default; checked in
   // steady_noise_test.cpp); here the pass is given it: none (a clean render), or told (noisetold).
   p.steadyNoiseEstimate = false;
+  p.steadyGainCompensation = false;  // round 16's frame gain: steady_gain_test.cpp
   if (variant == "noisetold") p.steadyNoiseVariance = 0.05f * 0.05f / 3.0f;  // the frames' own noise
   if (variant == "catmull") p.historyFilter = HistoryFilter::CatmullRom;
   if (variant == "linearfootprint") p.steadyFootprintEncoded = false;

@@ -54,13 +54,17 @@ glm::vec3 momentWeights(const float x[3], float m2) {
   return w;
 }
 
-// Half a step of the 8-bit sRGB input at linear level `linear`, squared (Params::steadyClipQuantSrgb).
+// Half a step of the 8-bit sRGB input at linear level `linear`, squared (Params::steadyClipQuantSrgb):
+// from the level down to the lower edge of the interval of linear values that round to its code
+// (IEC 61966-2-1; the curve is convex, so the lower side is the nearer one).
 float srgbHalfStepVar(float linear) {
-  // Half a code of an 8-bit gamma-2 encoding (linear = code^2: d linear / d code = 2 sqrt(linear)),
-  // with sRGB's linear toe (IEC 61966-2-1: slope 1/12.92) as its least.
-  const float dLinearDcode = std::max(2.0f * std::sqrt(std::max(linear, 0.0f)), 1.0f / 12.92f);
-  const float halfStep = 0.5f / 255.0f * dLinearDcode;
-  return halfStep * halfStep;
+  const double l = std::clamp(double(linear), 0.0, 1.0);
+  const double code = 255.0 * (l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055);
+  const double e = std::max(code - 0.5, 0.0) / 255.0;
+  const double lowerEdge = e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4);
+  // At black the interval has no lower side; its upper half (the toe is linear) is as wide.
+  const double halfStep = code < 0.5 ? 0.5 / 255.0 / 12.92 : l - lowerEdge;
+  return float(halfStep * halfStep);
 }
 
 }  // namespace

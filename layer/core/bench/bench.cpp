@@ -58,7 +58,8 @@ void usage() {
                "(steadyClipCurvatureCentred, steadyClipQuantSrgb); @curvgate: the one-sided box only\n"
                "where the history lags on one side (steadyClipCurvatureCentredGated, an option);\n"
                "@noisy, @noisy=0: the render's noise estimated and the box widened by it, or not\n"
-               "(steadyNoiseEstimate; the default since round 15).\n";
+               "(steadyNoiseEstimate; the default since round 15); @gain=0: without the frame's gain\n"
+               "probe and its compensation (steadyGainCompensation; the default since round 16).\n";
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -289,6 +290,8 @@ std::optional<Params> methodParams(const std::string& spec) {
       params->steadyNoiseEstimate = true;
     else if (suffix == "noisy=0")  // the default without it (the default before round 15)
       params->steadyNoiseEstimate = false;
+    else if (suffix == "gain=0")  // the default without the gain probe (the default before round 16)
+      params->steadyGainCompensation = false;
     else
       return std::nullopt;
   }

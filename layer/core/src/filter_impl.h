@@ -94,6 +94,8 @@ struct Filter::Impl {
   // One dispatch: its pipeline, uniforms and descriptor set. True when recorded, or skipped only
   // because its pipeline is still compiling.
   bool record(Recording& rec, const detail::PassDispatch& d, std::string* error);
+  // Steady's gain probes of both eyes (Params::steadyGainCompensation), before its temporal passes.
+  bool recordGainProbes(Recording& rec, const detail::PassContext& c, std::string* error);
 };
 
 }  // namespace steadyxr::core

@@ -153,6 +153,16 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
   return d;
 }
 
+PassDispatch gainProbePass(const PassContext& c, uint32_t e) {
+  PassDispatch d = temporalPass(c, e);
+  d.switches.gainProbe = true;
+  d.switches.writeOutput = false;
+  d.switches.writeHistory = false;
+  d.io.output = VK_NULL_HANDLE;
+  d.io.historyOut = VK_NULL_HANDLE;
+  return d;
+}
+
 PassDispatch stereoPass(const PassContext& c, uint32_t e) {
   const uint32_t o = 1 - e;
   PassDispatch d;
@@ -230,7 +240,9 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
                 (params.steadyNoiseEstimate || params.steadyNoiseVariance > 0.0f ? 8 : 0) |
                 (params.steadyNoiseEstimate ? 16 : 0) |
                 // Round 14: the residual's histogram, only where the host reads it.
-                (params.steadyNoiseEstimate && params.steadyNoiseResidualOverTime ? 32 : 0)
+                (params.steadyNoiseEstimate && params.steadyNoiseResidualOverTime ? 32 : 0) |
+                // Round 16: the frame's gain, read by the pass (64) or probed (128).
+                (params.steadyGainCompensation ? (sw.gainProbe ? 128 : 64) : 0)
           : 0};
 }
 

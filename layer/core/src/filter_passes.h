@@ -30,6 +30,7 @@ struct PassSwitches {
   bool inputSrgb = false;       // the app's image is sRGB: the passes read it decoded to linear light
   int32_t depthBits = 0;        // bit0: this eye's depth, bit1: the other eye's
   int32_t historyEncoding = 0;  // kHistoryEncoding: 0 RGBA16F, 1 RGBA8 dithered, 2 RGBA8 nearest
+  bool gainProbe = false;       // steady: the frame's gain probe (round 16), no output, no history
 };
 
 // An image a pass samples.
@@ -100,6 +101,8 @@ struct PassContext {
 PassDispatch copyPass(const PassContext& c, uint32_t e);
 PassDispatch fxaaPass(const PassContext& c, uint32_t e);
 PassDispatch temporalPass(const PassContext& c, uint32_t e);
+// Steady's gain probe of eye e (Params::steadyGainCompensation): before the temporal passes, both eyes.
+PassDispatch gainProbePass(const PassContext& c, uint32_t e);
 // The stereo pass of eye e: this eye blended with the other (seed 002 §4.1), into the output.
 PassDispatch stereoPass(const PassContext& c, uint32_t e);
 

@@ -149,7 +149,8 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
   const bool cpuDevice = ctx.isCpuDevice();
   const uint32_t groupX = cpuDevice ? kCpuGroupX : kGpuGroupX;
   const uint32_t groupY = cpuDevice ? kCpuGroupY : kGpuGroupY;
-  const bool blocked = d.pass != Pass::Fxaa && blockPixels(params, ctx);  // fxaa's reads follow the edges
+  // fxaa's reads follow the edges; the gain probe reads one pixel of each 4x4 block on every device.
+  const bool blocked = d.switches.gainProbe || (d.pass != Pass::Fxaa && blockPixels(params, ctx));
   const VkPipeline p = pipelines.get(d.pass, d.fmt, passSpecKey(d, params, blocked, groupX, groupY), error);
   if (!p && pipelines.compiling)
     return true;  // record nothing, but go on: every pipeline of the frame starts
@@ -188,7 +189,7 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
       {},  // 9: the noise histogram
   }};
   const VkDescriptorBufferInfo bi{s.ubo.get(), offset, sizeof(PassUniforms)};
-  const VkDescriptorBufferInfo noiseInfo{s.ubo.get(), s.noiseOffset, detail::kNoiseBufferBytes};
+  const VkDescriptorBufferInfo noiseInfo{s.ubo.get(), s.noiseOffset, detail::kStorageBufferBytes};
   std::array<VkWriteDescriptorSet, kBindings> w{};
   for (uint32_t i = 0; i < w.size(); ++i) {
     w[i] = {};

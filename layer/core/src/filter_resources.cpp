@@ -164,11 +164,11 @@ bool Filter::Impl::init(std::string* error) {
     VkBufferCreateInfo bci{};
 
     bci.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
-    // The uniforms of every dispatch, then the frame's noise histogram (zeroed by the host).
+    // The uniforms of every dispatch, then the frame's noise histogram and gain record (zeroed by the host).
     const VkDeviceSize storageAlign =
         std::max<VkDeviceSize>(props.limits.minStorageBufferOffsetAlignment, 16);
     s.noiseOffset = (uboStride * kMaxDispatches + storageAlign - 1) / storageAlign * storageAlign;
-    bci.size = s.noiseOffset + detail::kNoiseBufferBytes;
+    bci.size = s.noiseOffset + detail::kStorageBufferBytes;
     bci.usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     VkBuffer buf = VK_NULL_HANDLE;
     if (vkCreateBuffer(device, &bci, nullptr, &buf) != VK_SUCCESS)
@@ -191,7 +191,7 @@ bool Filter::Impl::init(std::string* error) {
     vkBindBufferMemory(device, buf, mem, 0);
     if (vkMapMemory(device, mem, 0, VK_WHOLE_SIZE, 0, &s.mapped) != VK_SUCCESS)
       return fail(error, "vkMapMemory failed"), false;  // freed memory is implicitly unmapped
-    std::memset(noiseBins(s), 0, detail::kNoiseBufferBytes);
+    std::memset(noiseBins(s), 0, detail::kStorageBufferBytes);
     if (timestamps) {
       VkQueryPoolCreateInfo qpci{};
       qpci.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;

@@ -1,6 +1,7 @@
 // Filter::Impl::submit: check the frame, prepare each eye's history, bind the images, record the
 // passes, submit; each step its own function, in that order.
 #include <array>
+#include <cstring>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -20,6 +21,7 @@ using detail::finiteFov;
 using detail::finitePose;
 using detail::FramePlan;
 using detail::fxaaPass;
+using detail::gainProbePass;
 using detail::isBgra;
 using detail::isDepthFormat;
 using detail::isOutputFormat;
@@ -228,7 +230,8 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
       frame, output, params, plan, eyes, historyIndex, static_cast<uint32_t>(frameCounter), noiseVariance};
   s.noiseSampled = steady && plan.firstStage && params.steadyNoiseEstimate;
   bool ok = true;
-  if (plan.firstStage) {
+  if (steady && plan.firstStage && params.steadyGainCompensation) ok = recordGainProbes(rec, c, error);
+  if (ok && plan.firstStage) {
     for (uint32_t e = 0; e < plan.viewCount && ok; ++e) {
       const PassDispatch d = plan.temporal ? temporalPass(c, e) : plan.fxaa ? fxaaPass(c, e) : copyPass(c, e);
       ok = record(rec, d, error);
@@ -256,6 +259,23 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
   }
   timestamp(s, 2);
   return ok;
+}
+
+// Round 16: both eyes' gain probes into a zeroed record, made visible to the temporal passes that read it.
+bool Filter::Impl::recordGainProbes(Recording& rec, const PassContext& c, std::string* error) {
+  std::memset(reinterpret_cast<char*>(noiseBins(rec.slot)) + detail::kNoiseBufferBytes, 0,
+              detail::kGainBufferBytes);
+  for (uint32_t e = 0; e < c.plan.viewCount; ++e) {
+    if (!eyes[e].valid) continue;  // no history to compare with (the pass then takes the frame as it is)
+    if (!record(rec, gainProbePass(c, e), error)) return false;
+  }
+  VkMemoryBarrier m{};
+  m.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+  m.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  m.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+  vkCmdPipelineBarrier(rec.slot.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &m, 0, nullptr, 0, nullptr);
+  return true;
 }
 
 bool Filter::Impl::submitRecording(Slot& s, VkSemaphore signal, std::string* error) {

@@ -122,6 +122,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_noise_estimate", &core::Params::steadyNoiseEstimate},
     {"steady_noise_residual_over_time", &core::Params::steadyNoiseResidualOverTime},
     {"steady_noise_change_test", &core::Params::steadyNoiseChangeTest},
+    {"steady_gain_compensation", &core::Params::steadyGainCompensation},
     {"stereo_inverse_variance", &core::Params::stereoInverseVariance},
     {"stereo_tap_curvature", &core::Params::stereoTapCurvature},
 };

@@ -174,6 +174,16 @@ struct Params {
   // and a box widened by the noise lets it through (a clean fade reached 1.22x none's in a frame).
   // false: round 14's estimate.
   bool steadyNoiseChangeTest = true;
+  // Issue 14 round 16 (the default): the history scaled by the frame's gain where that fits the clip box
+  // better. A fade or an exposure change of a fraction of an 8-bit code per frame moves every pixel by less
+  // than its own rounding, so no 3x3 can tell it from aliasing and the box keeps the lagging history (a
+  // dark fade's first frame reached 1.37x none's, held-out seed 40). The whole frame can: before the
+  // temporal pass a probe sums, at one pixel in 16 of both eyes, the luma of this frame and of the
+  // reprojected history; where their mean difference lies 4 standard errors from 0 (round 15's test) the
+  // gain is the ratio of the sums, else 1. Each pixel then clips whichever history, as it was or times the
+  // gain, lies nearer inside its box, so a static surround beside changing content (a video, a HUD)
+  // keeps its own. FSR2 asks the app for this (its pre-exposure); a layer estimates it. false: round 15.
+  bool steadyGainCompensation = true;
   // The noise variance per linear RGB channel to use when steadyNoiseEstimate is off (0 = a clean
   // render: steady as before round 13). The eval tells it the scene's own (noisevar=-1).
   float steadyNoiseVariance = 0.0f;
