@@ -28,8 +28,9 @@ const int kNoiseCopies = 8;
 const int kNoiseCopyStride = (kNoiseHistograms * kNoiseBins + kResidualSums + 15) / 16 * 16;
 uint noiseCopyBase() { return uint(kNoiseCopyStride) * (gl_WorkGroupID.x % uint(kNoiseCopies)); }
 // Round 16 (Params::steadyGainCompensation): the frame's gain, probed before the pass (bit 7: this
-// dispatch is the probe, probeGain) and read by it (bit 6: frameGain, once per invocation). The probe's record follows the noise
-// record's copies, in copies of its own (noise_estimate.h, kGainRecordWords and on: 4 words of 16).
+// dispatch is the probe, probeGain) and read by it (bit 6: frameGain, once per invocation). The probe's
+// record follows the noise record's copies, in copies of its own (noise_estimate.h, kGainRecordWords and
+// on: 4 words of a 16-word line).
 const bool kGainCompensated = kMode == 4 && (kSteadyBoxSwitches & 64) != 0;
 const int kGainCopyStride = 16;
 const uint kGainBase = uint(kNoiseCopies * kNoiseCopyStride);

@@ -48,6 +48,7 @@ constexpr uint32_t kGainRecordWords = 4;
 constexpr uint32_t kGainCopyStrideWords = 16;  // one 64-byte line
 constexpr float kLumaSumScale = 1024.0f;
 constexpr uint32_t kGainBufferBytes = kNoiseCopies * kGainCopyStrideWords * sizeof(uint32_t);
+static_assert(kGainRecordWords <= kGainCopyStrideWords, "a copy of the gain record fits its line");
 // The pass's storage buffer (binding 9): the noise record's copies, then the gain record's.
 constexpr uint32_t kStorageBufferBytes = kNoiseBufferBytes + kGainBufferBytes;
 // Round 15: the residual's mean is off 0 (a fade, a shift) when it lies this many standard errors

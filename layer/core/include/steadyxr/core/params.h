@@ -174,15 +174,18 @@ struct Params {
   // and a box widened by the noise lets it through (a clean fade reached 1.22x none's in a frame).
   // false: round 14's estimate.
   bool steadyNoiseChangeTest = true;
-  // Issue 14 round 16 (the default): the history scaled by the frame's gain where that fits the clip box
-  // better. A fade or an exposure change of a fraction of an 8-bit code per frame moves every pixel by less
-  // than its own rounding, so no 3x3 can tell it from aliasing and the box keeps the lagging history (a
-  // dark fade's first frame reached 1.37x none's, held-out seed 40). The whole frame can: before the
-  // temporal pass a probe sums, at one pixel in 16 of both eyes, the luma of this frame and of the
-  // reprojected history; where their mean difference lies 4 standard errors from 0 (round 15's test) the
-  // gain is the ratio of the sums, else 1. Each pixel then clips whichever history, as it was or times the
-  // gain, lies nearer inside its box, so a static surround beside changing content (a video, a HUD)
-  // keeps its own. FSR2 asks the app for this (its pre-exposure); a layer estimates it. false: round 15.
+  // Issue 14 round 16 (the default; README item 10): a history the clip box rejects, relit by the frame's
+  // gain. A fade or an exposure change of a fraction of an 8-bit code per frame moves every pixel by less
+  // than its own rounding, so no 3x3 can tell it from aliasing, and where the box is its floor the lagging
+  // history is clipped onto it (a dark fade's first frame reached 1.37x none's, held-out seed 40). The
+  // whole frame can tell: before the temporal pass a probe sums, at one pixel in 16 of both eyes, the luma
+  // of this frame and of the reprojected history (clamped to [0, 1]: HDR above 1 leans to no gain); where
+  // their mean difference lies 4 standard errors from 0 (round 15's test) the gain is the ratio of the
+  // sums, else 1. A pixel takes the relit history only where the box rejects the history as it was, the
+  // relit one lies inside the box and nearer the frame's own estimate; the count still falls by the
+  // unrelit history's t^2. A history the box admits keeps its value: a gain that drifts by tenths of a
+  // percent (a video's zoom) would otherwise bias pixels one by one (a video frame 1.09x none's against
+  // 1.04x). FSR2 asks the app for this gain (its pre-exposure); a layer measures it. false: round 15's.
   bool steadyGainCompensation = true;
   // The noise variance per linear RGB channel to use when steadyNoiseEstimate is off (0 = a clean
   // render: steady as before round 13). The eval tells it the scene's own (noisevar=-1).
