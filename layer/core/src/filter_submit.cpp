@@ -265,8 +265,9 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
 bool Filter::Impl::recordGainProbes(Recording& rec, const PassContext& c, std::string* error) {
   std::memset(reinterpret_cast<char*>(noiseBins(rec.slot)) + detail::kNoiseBufferBytes, 0,
               detail::kGainBufferBytes);
+  // Every frame, also one without a history (the probe then adds nothing): its pipeline is asked for with
+  // the temporal pass's, so no later frame waits for it to compile (and passes through meanwhile).
   for (uint32_t e = 0; e < c.plan.viewCount; ++e) {
-    if (!eyes[e].valid) continue;  // no history to compare with (the pass then takes the frame as it is)
     if (!record(rec, gainProbePass(c, e), error)) return false;
   }
   VkMemoryBarrier m{};
