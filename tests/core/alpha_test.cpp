@@ -36,10 +36,7 @@ bool isHalf(VkFormat f) {
 // half-float bits. GpuImage decodes sRGB on download, so colour is encoded back here.
 uint32_t storedCode(VkFormat f, float v, bool isAlpha) {
   if (isHalf(f)) return glm::packHalf1x16(v);
-  if (isSrgb(f) && !isAlpha) {
-    v = std::clamp(v, 0.0f, 1.0f);
-    v = v <= 0.0031308f ? v * 12.92f : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-  }
+  if (isSrgb(f) && !isAlpha) v = float(steadyxr::test::srgbEncode(v));
   return static_cast<uint32_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
 }
 
@@ -114,9 +111,7 @@ class AlphaTest : public ValidatedContextTest {
             const float want = isHalf(fc.in) ? glm::unpackHalf1x16(storedCode(fc.in, src[e].px[i][k], k == 3))
                                              : float(storedCode(fc.in, src[e].px[i][k], k == 3)) / 255.0f;
             const bool srgbColour = isSrgb(fc.in) && k < 3;
-            const float wantLinear =
-                srgbColour ? (want <= 0.04045f ? want / 12.92f : std::pow((want + 0.055f) / 1.055f, 2.4f))
-                           : want;
+            const float wantLinear = srgbColour ? float(steadyxr::test::srgbDecode(want)) : want;
             if (storedCode(fc.out, got.px[i][k], k == 3) != storedCode(fc.out, wantLinear, k == 3)) ++bad;
           }
       }

@@ -87,12 +87,7 @@ namespace {
 // Linear light rounded to the nearest 8-bit sRGB code (IEC 61966-2-1 encode, then decode).
 HostImage toSrgb8(HostImage img) {
   for (auto& px : img.px)
-    for (int ch = 0; ch < 3; ++ch) {
-      const double l = std::clamp(double(px[ch]), 0.0, 1.0);
-      const double s = l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055;
-      const double code = std::round(s * 255.0) / 255.0;
-      px[ch] = float(code <= 0.04045 ? code / 12.92 : std::pow((code + 0.055) / 1.055, 2.4));
-    }
+    for (int ch = 0; ch < 3; ++ch) px[ch] = float(srgbDecode(std::round(srgbEncode(px[ch]) * 255.0) / 255.0));
   return img;
 }
 }  // namespace

@@ -24,11 +24,10 @@ bool depth(VkFormat f) {
 }
 
 float toSrgb(float c) {
-  c = std::clamp(c, 0.0f, 1.0f);
-  return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+  return float(srgbEncode(c));
 }
 float fromSrgb(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+  return float(srgbDecode(c));
 }
 
 void check(VkResult r, const char* what) {

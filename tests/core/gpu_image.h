@@ -1,6 +1,8 @@
 // Test helpers: device images with upload/download through a staging buffer (real Vulkan).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <glm/vec4.hpp>
 #include <memory>
@@ -11,6 +13,17 @@
 #include "steadyxr/core/vulkan_context.h"
 
 namespace steadyxr::test {
+
+// IEC 61966-2-1 (sRGB), written from the standard, for every test that must know what an SRGB
+// image stores: the encoded value (0..1, unrounded) of linear `linear`, clamped to [0, 1] first,
+// and the linear value of encoded `encoded`.
+inline double srgbEncode(double linear) {
+  linear = std::clamp(linear, 0.0, 1.0);
+  return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
+}
+inline double srgbDecode(double encoded) {
+  return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
+}
 
 // RGBA float pixels, row-major, row 0 at the top.
 struct HostImage {

@@ -31,15 +31,6 @@ using steadyxr::test::ValidatedContextTest;
 
 namespace {
 
-// IEC 61966-2-1 (sRGB), written from the standard.
-float srgbToLinear(float s) {
-  return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
-}
-float linearToSrgb(float c) {
-  c = std::clamp(c, 0.0f, 1.0f);
-  return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-}
-
 constexpr uint32_t kW = 64, kH = 16;  // 16 levels over 64 px: a level every 4 px
 constexpr float kTopLevel = 16.0f;    // sRGB 0..16/255: the dark end, where 8 bits band first
 constexpr int kFrames = 64;
@@ -102,7 +93,8 @@ class HistoryFormatTest : public ValidatedContextTest {
         for (uint32_t y = 0; y < kH; ++y)
           for (uint32_t x = 0; x < kW; ++x) {
             const float level = std::floor(levelAt(azimuthAt(float(x), yaw)) + uniform(rng));  // app's dither
-            const float c = srgbToLinear(level / 255.0f);  // GpuImage encodes back to exactly `level`
+            const float c =
+                float(steadyxr::test::srgbDecode(level / 255.0));  // GpuImage encodes back to exactly `level`
             img.at(x, y) = glm::vec4(c, c, c, 1.0f);
           }
         in[e]->upload(img, 0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
@@ -122,7 +114,8 @@ class HistoryFormatTest : public ValidatedContextTest {
         const HostImage got = out[e]->download(0, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
         for (uint32_t y = 0; y < kH; ++y)
           for (uint32_t x = 0; x < kW; ++x)
-            sum[x] += 255.0f * linearToSrgb(got.at(x, y).g) - levelAt(azimuthAt(float(x), yaw));
+            sum[x] += 255.0f * float(steadyxr::test::srgbEncode(got.at(x, y).g)) -
+                      levelAt(azimuthAt(float(x), yaw));
       }
     }
     for (double& m : sum) m /= double(2 * kH * kMeasured);

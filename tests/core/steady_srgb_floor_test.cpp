@@ -26,14 +26,9 @@ Params steadyBoxAlone() {
   return p;
 }
 
-}  // namespace
-
-namespace {
-
-// Linear light of 8-bit sRGB code `code` (IEC 61966-2-1).
-double srgbDecode(int code) {
-  const double s = code / 255.0;
-  return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+// Linear light of 8-bit sRGB code `code`.
+double codeToLinear(int code) {
+  return srgbDecode(code / 255.0);
 }
 
 // Params::steadyClipQuantSrgb: a flat dark field (sRGB code 39, linear 0.02: the fade scene's
@@ -54,7 +49,7 @@ std::optional<DarkFadeUp> darkFadeUp(bool quantSrgb, VkFormat format = VK_FORMAT
   p.steadyClipQuantSrgb = quantSrgb;
   auto f = makeFilter("steady", p), copy = makeFilter("none");
   if (!f || !copy) return std::nullopt;
-  const auto valueOf = [srgb](int code) { return srgb ? srgbDecode(code) : code / 255.0; };
+  const auto valueOf = [srgb](int code) { return srgb ? codeToLinear(code) : code / 255.0; };
   // The reference starts from the input as the pass reads it (lavapipe's sRGB decode is within
   // about 1 % of IEC 61966-2-1's near black): the copy pass's output.
   Rig rig(W, H, format), copyRig(W, H, format);
@@ -109,10 +104,9 @@ TEST_F(CoreTest, SteadySrgbQuantFloorLeavesUnormInputAlone) {
 
 namespace {
 
-// 8-bit sRGB code of linear `l`, unrounded (IEC 61966-2-1).
-double srgbEncode(double l) {
-  l = std::clamp(l, 0.0, 1.0);
-  return 255.0 * (l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055);
+// 8-bit sRGB code of linear `l`, unrounded.
+double linearToCode(double l) {
+  return 255.0 * srgbEncode(l);
 }
 
 // Stripes 4 px wide, one per code c in 1..254, held at code c + historyOffset for 20 frames, then
@@ -129,7 +123,7 @@ std::optional<double> flatStepCodes(int historyOffset) {
     HostImage img(W, H);
     for (uint32_t y = 0; y < H; ++y)
       for (uint32_t x = 0; x < W; ++x) {
-        const float v = float(srgbDecode(int(x) / kStripe + 1 + offset));
+        const float v = float(codeToLinear(int(x) / kStripe + 1 + offset));
         img.at(x, y) = glm::vec4(v, v, v, 1.0f);
       }
     return img;
@@ -144,7 +138,7 @@ std::optional<double> flatStepCodes(int historyOffset) {
   for (uint32_t x = 0; x < W; ++x) {
     if (x % kStripe == 0 || x % kStripe == 3) continue;  // the 3x3 reaches the next stripe
     for (uint32_t y = 0; y < H; ++y)
-      worst = std::max(worst, std::abs(srgbEncode(out.at(x, y).g) - srgbEncode(read.at(x, y).g)));
+      worst = std::max(worst, std::abs(linearToCode(out.at(x, y).g) - linearToCode(read.at(x, y).g)));
   }
   return worst;
 }
