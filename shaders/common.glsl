@@ -109,6 +109,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float steadyClipCurvatureKappa;  // steady: > 0 = the clip box bounded by kappa (|cxx| + |cyy|); 0 = off
   float steadyClipCurvatureInner;  // steady (round 7): the one-sided curvature box's inner bound (spec bit0)
   float steadyNoiseVariance;       // steady (round 13): the render's noise variance per linear RGB channel
+  int gainProbeBlockPx;            // steady's gain probe (round 17): one sample per block of this side
 } P;
 
 vec3 sanitize(vec3 c) {

@@ -29,10 +29,9 @@ const int kNoiseCopyStride = (kNoiseHistograms * kNoiseBins + kResidualSums + 15
 uint noiseCopyBase() { return uint(kNoiseCopyStride) * (gl_WorkGroupID.x % uint(kNoiseCopies)); }
 // Round 16 (Params::steadyGainCompensation): the frame's gain, probed before the pass (bit 7: this
 // dispatch is the probe, probeGain) and read by it (bit 6: frameGain, once per invocation). The probe's
-// record follows the noise record's copies, in copies of its own (noise_estimate.h, kGainRecordWords and
-// on: 4 words of a 16-word line).
+// record follows the noise record's copies, on a 16-word line of its own (noise_estimate.h,
+// kGainRecordWords and on: 4 words).
 const bool kGainCompensated = kMode == 4 && (kSteadyBoxSwitches & 64) != 0;
-const int kGainCopyStride = 16;
 const uint kGainBase = uint(kNoiseCopies * kNoiseCopyStride);
 const float kLumaSumScale = 1024.0;
 const float kPi = 3.14159265358979;
@@ -215,38 +214,46 @@ void recordNoiseSamples(ivec2 p, ivec2 o, bool historyConfirmed, vec2 q, float c
   }
 }
 
-// Round 16: the probe, one pixel in 16 (of each 4x4 block, the one at (2, 2)), both eyes into one
-// record: the luma of this frame and of the history reprojected through the previous pose, summed (in
-// [0, 1], units 2^-10: 2^21 samples, two eyes of 4096^2, cannot overflow), the magnitude of their
-// difference (as addResidualSums) and the samples.
-void probeGain(ivec2 p) {
-  if (any(greaterThanEqual(p, P.src0Size)) || P.historyValid == 0) return;
-  float invZ = P.fallbackInvZ;
-  if ((kDepthBits & 1) != 0) invZ = invZFromDepth(texelFetch(uDepth0, P.depth0Offset + p, 0).r, P.depth0);
-  vec2 q;
-  float iz;
-  if (!reproject(P.reproj[0], vec2(p) + 0.5, invZ, q, iz)) return;
-  const float current = clamp(toYCoCg(fetchSrc0(p)).x, 0.0, 1.0);
-  const float history = clamp(toYCoCg(sampleHistory(q)).x, 0.0, 1.0);
-  if (isnan(current) || isnan(history)) return;
-  const uint base = kGainBase + uint(kGainCopyStride) * (gl_WorkGroupID.x % uint(kNoiseCopies));
-  atomicAdd(noiseBins[base], uint(round(current * kLumaSumScale)));
-  atomicAdd(noiseBins[base + 1], uint(round(history * kLumaSumScale)));
-  atomicAdd(noiseBins[base + 2], uint(round(min(abs(current - history), 0.5) * kResidualSumScale)));
-  atomicAdd(noiseBins[base + 3], 1u);
+// Round 16: the probe, one sample per block (round 17: blocks of P.gainProbeBlockPx, 4 px up to 2^14
+// blocks an eye, filter_passes.h), at the block's centre, both eyes into one record: the luma of this
+// frame and of the history reprojected through the previous pose, summed (in [0, 1], units 2^-10: 2^21
+// samples cannot overflow), the magnitude of their difference (as addResidualSums) and the samples. An
+// invocation sums kGainProbeBlocks^2 blocks before it adds to the record's one copy (integer sums: the
+// same in any order).
+const int kGainProbeBlocks = 4;  // per axis (filter_passes.h, kGainProbeBlocksPerInvocation)
+void probeGain(ivec2 region) {
+  if (P.historyValid == 0) return;
+  uint current = 0u, history = 0u, magnitude = 0u, samples = 0u;
+  for (int by = 0; by < kGainProbeBlocks; ++by) {
+    for (int bx = 0; bx < kGainProbeBlocks; ++bx) {
+      const ivec2 p = region + P.gainProbeBlockPx * ivec2(bx, by) + P.gainProbeBlockPx / 2;
+      if (any(greaterThanEqual(p, P.src0Size))) continue;
+      float invZ = P.fallbackInvZ;
+      if ((kDepthBits & 1) != 0) invZ = invZFromDepth(texelFetch(uDepth0, P.depth0Offset + p, 0).r, P.depth0);
+      vec2 q;
+      float iz;
+      if (!reproject(P.reproj[0], vec2(p) + 0.5, invZ, q, iz)) continue;
+      const float currentLuma = clamp(toYCoCg(fetchSrc0(p)).x, 0.0, 1.0);
+      const float historyLuma = clamp(toYCoCg(sampleHistory(q)).x, 0.0, 1.0);
+      if (isnan(currentLuma) || isnan(historyLuma)) continue;
+      current += uint(round(currentLuma * kLumaSumScale));
+      history += uint(round(historyLuma * kLumaSumScale));
+      magnitude += uint(round(min(abs(currentLuma - historyLuma), 0.5) * kResidualSumScale));
+      ++samples;
+    }
+  }
+  if (samples == 0u) return;
+  atomicAdd(noiseBins[kGainBase], current);
+  atomicAdd(noiseBins[kGainBase + 1], history);
+  atomicAdd(noiseBins[kGainBase + 2], magnitude);
+  atomicAdd(noiseBins[kGainBase + 3], samples);
 }
 // The frame's gain from the probe's record: this frame's luma over the history's where the mean of
 // their difference lies 4 standard errors or more from 0 (round 15's test, noise_estimate.h,
 // kChangeTestStandardErrors: sigma = sqrt(pi / 2) E|r|); 1 elsewhere.
 float frameGain() {
-  uint current = 0u, history = 0u, magnitude = 0u, samples = 0u;
-  [[unroll]] for (int c = 0; c < kNoiseCopies; ++c) {
-    const uint base = kGainBase + uint(kGainCopyStride * c);
-    current += noiseBins[base];
-    history += noiseBins[base + 1];
-    magnitude += noiseBins[base + 2];
-    samples += noiseBins[base + 3];
-  }
+  const uint current = noiseBins[kGainBase], history = noiseBins[kGainBase + 1];
+  const uint magnitude = noiseBins[kGainBase + 2], samples = noiseBins[kGainBase + 3];
   if (samples < 2u || magnitude == 0u || history == 0u) return 1.0;
   const float n = float(samples);
   const float meanDifference = float(int(current - history)) / (kLumaSumScale * n);
@@ -474,8 +481,8 @@ void processPixel(ivec2 p, ivec2 o) {
 void main() {
   ivec2 base = ivec2(gl_GlobalInvocationID.xy) * ivec2(kBlockW, kBlockH);
   // The switches spelled out: glslang leaves a spec constant's expression undefined when main is its first use.
-  if (kMode == 4 && (kSteadyBoxSwitches & 128) != 0) {  // the probe: by 4x4 blocks on every device
-    probeGain(ivec2(gl_GlobalInvocationID.xy) * 4 + 2);
+  if (kMode == 4 && (kSteadyBoxSwitches & 128) != 0) {  // the probe: by regions of 4x4 blocks on every device
+    probeGain(ivec2(gl_GlobalInvocationID.xy) * (kGainProbeBlocks * P.gainProbeBlockPx));
     return;
   }
   if (kMode == 4 && (kSteadyBoxSwitches & 64) != 0) gFrameGain = frameGain();

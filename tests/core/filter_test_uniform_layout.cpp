@@ -127,10 +127,11 @@ const std::vector<Member> kPassUniforms = {
     HOST_MEMBER(PassUniforms, steadyClipCurvatureKappa),
     HOST_MEMBER(PassUniforms, steadyClipCurvatureInner),
     HOST_MEMBER(PassUniforms, steadyNoiseVariance),
+    HOST_MEMBER(PassUniforms, gainProbeBlockPx),
 };
-// The table lists every host member: the last one (a float) ends the struct, up to its 16-byte
+// The table lists every host member: the last one (4 bytes) ends the struct, up to its 16-byte
 // alignment.
-static_assert(offsetof(PassUniforms, steadyNoiseVariance) + sizeof(float) + 16 > sizeof(PassUniforms));
+static_assert(offsetof(PassUniforms, gainProbeBlockPx) + sizeof(int32_t) + 16 > sizeof(PassUniforms));
 
 const std::vector<Member> kDepthToInvZ = {
     HOST_MEMBER(DepthToInvZ, invNear),

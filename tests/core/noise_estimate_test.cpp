@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "filter_passes.h"
 #include "noise_estimate.h"
 
 using namespace steadyxr::core::detail;
@@ -264,4 +265,32 @@ TEST(NoiseEstimate, CopiesAddUpToOneRecord) {
   EXPECT_EQ(record[kNoiseBins + 7], 56u);                    // 2 (0 + 1 + ... + 7)
   EXPECT_EQ(static_cast<int32_t>(record[signedSum]), -240);  // 4 x -100 + 4 x 40
   EXPECT_EQ(record[4], 0u);
+}
+
+// The gain probe's blocks (filter_passes.h, round 17): one sample per block of side B at its centre,
+// B = 4 until an eye would hold more than 16384 samples, then the smallest power of two that holds no
+// more. The figures are counted here from that rule: 512x512 holds 128 x 128 samples of 4 px blocks,
+// exactly the budget; 1024x1024 would hold 65536 with 4 px and 16384 with 8; 2048x2048 holds 16384 with
+// 16; 1832x1920 (a headset's eye) 114 x 120 = 13680 with 16 and 229 x 240 with 8.
+TEST(GainProbe, BlocksKeepAnEyeWithinItsSampleBudget) {
+  EXPECT_EQ(gainProbeBlockPx(128, 128), 4);
+  EXPECT_EQ(gainProbeBlockPx(512, 512), 4);
+  EXPECT_EQ(gainProbeBlockPx(1024, 1024), 8);
+  EXPECT_EQ(gainProbeBlockPx(2048, 2048), 16);
+  EXPECT_EQ(gainProbeBlockPx(1832, 1920), 16);
+  EXPECT_EQ(gainProbeSamples(1832, 1920, 16), 114 * 120);
+  // A partial block counts where its centre lies inside the eye: 1045 = 130 * 8 + 5 holds 131.
+  EXPECT_EQ(gainProbeSamples(1045, 8, 8), 131);
+  EXPECT_EQ(gainProbeSamples(1044, 8, 8), 130);
+  EXPECT_EQ(gainProbeSamples(1, 1, 4), 0);
+  // Within the budget and no coarser than it needs, over many sizes.
+  for (int32_t w = 1; w <= 5000; w += 37) {
+    for (int32_t h = 1; h <= 5000; h += 41) {
+      const int32_t b = gainProbeBlockPx(w, h);
+      ASSERT_LE(gainProbeSamples(w, h, b), 16384) << w << "x" << h;
+      if (b > 4) {
+        ASSERT_GT(gainProbeSamples(w, h, b / 2), 16384) << w << "x" << h;
+      }
+    }
+  }
 }

@@ -75,7 +75,68 @@ double probedGain(const HostImage& now, const HostImage& before) {
   return sumNow / sumBefore;
 }
 
+// The probe's sums written from its rule (filter_passes.h): at the pixels (B/2 + i B, B/2 + j B) of an
+// eye, B = 4 up to 16384 samples an eye (else the smallest power of two that keeps to them), the luma
+// (R/4 + G/2 + B/4, clamped to [0, 1]) of this frame and of the history (here the previous output: the
+// poses are still), over both eyes.
+GainProbeSums probeSumsByRule(const std::array<HostImage, 2>& now, const std::array<HostImage, 2>& before) {
+  const auto luma = [](const glm::vec4& c) {
+    return std::clamp(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.0, 1.0);
+  };
+  GainProbeSums sums;
+  for (int e = 0; e < 2; ++e) {
+    const uint32_t w = now[e].width, h = now[e].height;
+    uint32_t block = 4;
+    const auto count = [&](uint32_t b) { return uint64_t((w + b / 2 - 1) / b) * ((h + b / 2 - 1) / b); };
+    while (count(block) > 16384) block *= 2;
+    for (uint32_t y = block / 2; y < h; y += block)
+      for (uint32_t x = block / 2; x < w; x += block) {
+        ++sums.samples;
+        sums.currentMeanLuma += luma(now[e].at(x, y));
+        sums.historyMeanLuma += luma(before[e].at(x, y));
+      }
+  }
+  sums.currentMeanLuma /= sums.samples;
+  sums.historyMeanLuma /= sums.samples;
+  return sums;
+}
+
+// Eye e's picture in frame k: a pattern times a ramp that rises to the right and down (a probe that
+// missed a region would see another mean), different in each eye and frame.
+HostImage probePicture(uint32_t w, uint32_t h, int e, int k) {
+  HostImage img = pattern(w, h, uint32_t(11 + 2 * e + k));
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const float ramp = 0.2f + 0.8f * float(x + y) / float(w + h) * (k == 0 ? 1.0f : 0.7f);
+      img.at(x, y) = glm::vec4(glm::vec3(img.at(x, y)) * ramp, 1.0f);
+    }
+  return toHalf(img);
+}
+
 }  // namespace
+
+// The probe covers both eyes whole at every size: at 64x48 (4 px blocks, 16 x 12 samples an eye) and at
+// 1040x280, where 4 px blocks would give 260 x 70 = 18200 samples an eye, so 8 px blocks give 130 x 35.
+// The sums the filter read back from the probe's record are the rule's: the samples exactly, the means
+// to the record's rounding (each sample to 2^-10: at most 2^-11 off on average).
+TEST_F(CoreTest, SteadyGainProbeSamplesBothEyesWholeAtEverySize) {
+  for (const auto& [w, h] : {std::pair<uint32_t, uint32_t>{64, 48}, {1040, 280}}) {
+    auto f = makeFilter("steady", steadyGain(true));
+    ASSERT_TRUE(f) << "filter creation failed";
+    Rig rig(w, h);
+    const std::array<HostImage, 2> first{probePicture(w, h, 0, 0), probePicture(w, h, 1, 0)};
+    const std::array<HostImage, 2> second{probePicture(w, h, 0, 1), probePicture(w, h, 1, 1)};
+    const std::array<HostImage, 2> firstOut = rig.run(*f, Frame{first, {eye(0, 0), eye(0, 0)}});
+    rig.run(*f, Frame{second, {eye(0, 0), eye(0, 0)}});
+    f->waitIdle();
+    const std::optional<GainProbeSums> got = f->lastGainProbe();
+    ASSERT_TRUE(got) << w << "x" << h << ": no probe with samples";
+    const GainProbeSums want = probeSumsByRule(second, firstOut);
+    EXPECT_EQ(got->samples, want.samples) << w << "x" << h;
+    EXPECT_NEAR(got->currentMeanLuma, want.currentMeanLuma, 0.6 / 1024) << w << "x" << h;
+    EXPECT_NEAR(got->historyMeanLuma, want.historyMeanLuma, 0.6 / 1024) << w << "x" << h;
+  }
+}
 
 // A fade's step of 2 % (0.004 to 0.018 here) is more than a flat 3x3's box admits (its floor, half an
 // 8-bit step: 0.002), so round 15's default clips the lagging history onto the floor and blends on from

@@ -57,6 +57,10 @@ std::optional<float> Filter::estimatedNoiseVariance() const {
   return impl_->noiseTracker.variance();
 }
 
+std::optional<GainProbeSums> Filter::lastGainProbe() const {
+  return impl_->gainProbe;
+}
+
 void Filter::forgetImage(VkImage image) {
   bool any = false;
   for (const auto& [key, v] : impl_->views) any = any || std::get<0>(key) == image;

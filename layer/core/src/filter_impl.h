@@ -42,6 +42,7 @@ struct Filter::Impl {
   std::map<ViewKey, Unique<VkImageView>> views;
   uint64_t frameCounter = 0;
   std::optional<PassTimings> timings;
+  std::optional<GainProbeSums> gainProbe;  // the newest finished frame's, with samples
   // The render's noise variance per linear RGB channel from the finished frames that sampled it
   // (Params::steadyNoiseEstimate; noise_estimate.h), in the order they were submitted.
   detail::NoiseTracker noiseTracker;
@@ -61,6 +62,7 @@ struct Filter::Impl {
   void collectFinished();         // collect() of every slot whose frame has finished, without waiting
   void waitAll();
   static uint32_t* noiseBins(const detail::Slot& s);  // the slot's histogram, host-mapped
+  void readGainProbe(const detail::Slot& s);          // the slot's gain record into gainProbe (collect)
 
   // submit and its steps, in order (filter_submit.cpp).
   bool submit(const StereoFrame& frame, const StereoOutput& output, std::string* error, VkSemaphore signal);

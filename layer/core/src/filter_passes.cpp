@@ -153,8 +153,22 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
   return d;
 }
 
+int64_t gainProbeSamples(int32_t width, int32_t height, int32_t blockPx) {
+  const auto along = [blockPx](int32_t n) {
+    return std::max<int64_t>(0, (int64_t(n) + blockPx / 2 - 1) / blockPx);
+  };
+  return along(width) * along(height);
+}
+
+int32_t gainProbeBlockPx(int32_t width, int32_t height) {
+  int32_t block = kGainProbeSmallestBlockPx;
+  while (gainProbeSamples(width, height, block) > kGainProbeSamplesPerEye) block *= 2;
+  return block;
+}
+
 PassDispatch gainProbePass(const PassContext& c, uint32_t e) {
   PassDispatch d = temporalPass(c, e);
+  d.uniforms.gainProbeBlockPx = gainProbeBlockPx(d.uniforms.src0Size.x, d.uniforms.src0Size.y);
   d.switches.gainProbe = true;
   d.switches.writeOutput = false;
   d.switches.writeHistory = false;

@@ -103,6 +103,17 @@ PassDispatch fxaaPass(const PassContext& c, uint32_t e);
 PassDispatch temporalPass(const PassContext& c, uint32_t e);
 // Steady's gain probe of eye e (Params::steadyGainCompensation): before the temporal passes, both eyes.
 PassDispatch gainProbePass(const PassContext& c, uint32_t e);
+// The probe's samples: the pixels at (B/2 + i B, B/2 + j B) of an eye of width x height, for blocks of
+// side B. Their count, and the side the probe takes: 4 px (one pixel in 16) until the eye holds more
+// than kGainProbeSamplesPerEye samples, then doubled until it holds no more. The probe's cost then
+// stops growing with the resolution (round 17), and its test keeps 16 times the samples it found the
+// evaluation's fades with (128x128 eyes: 1024 each).
+constexpr int32_t kGainProbeSmallestBlockPx = 4;
+constexpr int64_t kGainProbeSamplesPerEye = 16384;
+int64_t gainProbeSamples(int32_t width, int32_t height, int32_t blockPx);
+int32_t gainProbeBlockPx(int32_t width, int32_t height);
+// A probe invocation sums this many blocks per axis before it adds to the record (temporal.comp).
+constexpr uint32_t kGainProbeBlocksPerInvocation = 4;
 // The stereo pass of eye e: this eye blended with the other (seed 002 §4.1), into the output.
 PassDispatch stereoPass(const PassContext& c, uint32_t e);
 

@@ -149,7 +149,7 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
   const bool cpuDevice = ctx.isCpuDevice();
   const uint32_t groupX = cpuDevice ? kCpuGroupX : kGpuGroupX;
   const uint32_t groupY = cpuDevice ? kCpuGroupY : kGpuGroupY;
-  // fxaa's reads follow the edges; the gain probe reads one pixel of each 4x4 block on every device.
+  // fxaa's reads follow the edges; the gain probe has blocks of its own on every device (gainProbeBlockPx).
   const bool blocked = d.switches.gainProbe || (d.pass != Pass::Fxaa && blockPixels(params, ctx));
   const VkPipeline p = pipelines.get(d.pass, d.fmt, passSpecKey(d, params, blocked, groupX, groupY), error);
   if (!p && pipelines.compiling)
@@ -210,8 +210,12 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
   rec.bound = p;
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout.get(), 0, 1, &set, 0, nullptr);
   // blocked: each invocation handles 4x4 pixels (kBlockW x kBlockH)
-  const uint32_t gx = blocked ? 4 * groupX : groupX;
-  const uint32_t gy = blocked ? 4 * groupY : groupY;
+  const uint32_t invocationPx = d.switches.gainProbe ? static_cast<uint32_t>(d.uniforms.gainProbeBlockPx) *
+                                                           detail::kGainProbeBlocksPerInvocation
+                                : blocked ? 4
+                                          : 1;
+  const uint32_t gx = invocationPx * groupX;
+  const uint32_t gy = invocationPx * groupY;
   vkCmdDispatch(cmd, (static_cast<uint32_t>(d.uniforms.src0Size.x) + gx - 1) / gx,
                 (static_cast<uint32_t>(d.uniforms.src0Size.y) + gy - 1) / gy, 1);
   return true;

@@ -240,6 +240,8 @@ void Filter::Impl::collect(Slot& s) {
   }
   if (s.noiseSampled) std::memset(noiseBins(s), 0, detail::kNoiseBufferBytes);
   s.noiseSampled = false;
+  if (s.gainProbed) readGainProbe(s);
+  s.gainProbed = false;
   if (!s.timed || !s.queries) return;
   std::array<uint64_t, kQueries> ts{};
   if (vkGetQueryPoolResults(device, s.queries.get(), 0, kQueries, sizeof(ts), ts.data(), sizeof(uint64_t),
@@ -264,6 +266,14 @@ void Filter::Impl::waitAll() {
 void Filter::Impl::collectFinished() {
   for (auto& s : slots)
     if (s.pending && vkGetFenceStatus(device, s.fence.get()) == VK_SUCCESS) collect(s);
+}
+
+void Filter::Impl::readGainProbe(const Slot& s) {
+  const uint32_t* record = noiseBins(s) + detail::kNoiseBufferBytes / sizeof(uint32_t);  // temporal.comp
+  const uint32_t samples = record[3];
+  if (samples == 0 || (gainProbe && gainProbe->frameIndex > s.frameIndex)) return;  // keep the newest
+  const double toMean = 1.0 / (detail::kLumaSumScale * samples);
+  gainProbe = GainProbeSums{samples, record[0] * toMean, record[1] * toMean, s.frameIndex};
 }
 
 uint32_t* Filter::Impl::noiseBins(const Slot& s) {

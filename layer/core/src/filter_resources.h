@@ -53,6 +53,7 @@ struct Slot {
   bool pending = false;
   bool timed = false;
   bool noiseSampled = false;  // a pass of the frame filled the noise histogram
+  bool gainProbed = false;    // the frame's gain probe filled its record
   uint64_t frameIndex = 0;
 };
 

@@ -229,6 +229,7 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
   const PassContext c{
       frame, output, params, plan, eyes, historyIndex, static_cast<uint32_t>(frameCounter), noiseVariance};
   s.noiseSampled = steady && plan.firstStage && params.steadyNoiseEstimate;
+  s.gainProbed = false;
   bool ok = true;
   if (steady && plan.firstStage && params.steadyGainCompensation) ok = recordGainProbes(rec, c, error);
   if (ok && plan.firstStage) {
@@ -237,7 +238,7 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
       ok = record(rec, d, error);
     }
   }
-  if (s.noiseSampled) {  // the histogram's atomic adds made visible to the host that reads it (collect)
+  if (s.noiseSampled || s.gainProbed) {  // the records' atomic adds made visible to the host (collect)
     VkMemoryBarrier m{};
     m.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
     m.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
@@ -270,6 +271,7 @@ bool Filter::Impl::recordGainProbes(Recording& rec, const PassContext& c, std::s
   for (uint32_t e = 0; e < c.plan.viewCount; ++e) {
     if (!record(rec, gainProbePass(c, e), error)) return false;
   }
+  rec.slot.gainProbed = true;
   VkMemoryBarrier m{};
   m.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
   m.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;

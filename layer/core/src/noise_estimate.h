@@ -39,15 +39,16 @@ constexpr uint32_t kNoiseRecordWords = kNoiseHistograms * kNoiseBins + kResidual
 constexpr uint32_t kNoiseCopies = 8;
 constexpr uint32_t kNoiseCopyStrideWords = (kNoiseRecordWords + 15) / 16 * 16;  // 64-byte lines
 constexpr uint32_t kNoiseBufferBytes = kNoiseCopies * kNoiseCopyStrideWords * sizeof(uint32_t);
-// Round 16 (Params::steadyGainCompensation): the gain probe's record after the noise record's copies, in
-// kNoiseCopies copies of its own (temporal.comp, probeGain): the luma of the frame and of the reprojected
-// history summed (units 1/kLumaSumScale), the magnitude of their difference (1/kResidualSumScale) and the
-// samples. Both eyes' probes add to it; the temporal passes of the same frame sum the copies, once per
-// invocation. (A one-invocation dispatch that merged them first cost more on lavapipe than it saved.)
+// Round 16 (Params::steadyGainCompensation): the gain probe's record after the noise record's copies, on
+// a line of its own (temporal.comp, probeGain): the luma of the frame and of the reprojected history
+// summed (units 1/kLumaSumScale), the magnitude of their difference (1/kResidualSumScale) and the
+// samples. Both eyes' probes add to it; the temporal passes of the same frame read it, once per
+// invocation. One copy since round 17: a probe invocation adds once for 16 samples, so its adds seldom
+// meet (round 16 kept kNoiseCopies copies, read by every invocation of the temporal passes).
 constexpr uint32_t kGainRecordWords = 4;
 constexpr uint32_t kGainCopyStrideWords = 16;  // one 64-byte line
 constexpr float kLumaSumScale = 1024.0f;
-constexpr uint32_t kGainBufferBytes = kNoiseCopies * kGainCopyStrideWords * sizeof(uint32_t);
+constexpr uint32_t kGainBufferBytes = kGainCopyStrideWords * sizeof(uint32_t);
 static_assert(kGainRecordWords <= kGainCopyStrideWords, "a copy of the gain record fits its line");
 // The pass's storage buffer (binding 9): the noise record's copies, then the gain record's.
 constexpr uint32_t kStorageBufferBytes = kNoiseBufferBytes + kGainBufferBytes;

@@ -70,6 +70,7 @@ struct PassUniforms {
   float steadyClipCurvatureKappa;  // steady: > 0 = the clip box bounded by kappa (|cxx| + |cyy|); 0 = off
   float steadyClipCurvatureInner;  // steady (round 7): the one-sided curvature box's inner bound (spec bit0)
   float steadyNoiseVariance;       // steady (round 13): the render's noise variance per linear RGB channel
+  int32_t gainProbeBlockPx;        // steady's gain probe (round 17): one sample per block of this side
 };
 
 // std140 offsets of PassParams in common.glsl: a host member moved fails here, a shader member
@@ -116,6 +117,7 @@ static_assert(offsetof(PassUniforms, stereoTapCurvature) == 484);
 static_assert(offsetof(PassUniforms, steadyClipCurvatureKappa) == 488);
 static_assert(offsetof(PassUniforms, steadyClipCurvatureInner) == 492);
 static_assert(offsetof(PassUniforms, steadyNoiseVariance) == 496);
+static_assert(offsetof(PassUniforms, gainProbeBlockPx) == 500);
 static_assert(sizeof(PassUniforms) == 512);  // the block's 512 bytes (16-aligned by DepthToInvZ)
 
 }  // namespace steadyxr::core

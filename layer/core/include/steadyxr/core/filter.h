@@ -66,6 +66,8 @@ class Filter {
   // The render's noise variance per linear RGB channel that steady estimated from the newest
   // finished frame since the last reset (Params::steadyNoiseEstimate), if any.
   std::optional<float> estimatedNoiseVariance() const;
+  // The gain probe's sums of the newest finished frame that had samples (a history), if any.
+  std::optional<GainProbeSums> lastGainProbe() const;
 
   // Forget cached views/descriptors of an image that the caller is about to destroy.
   void forgetImage(VkImage image);
