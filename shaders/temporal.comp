@@ -30,7 +30,8 @@ uint noiseCopyBase() { return uint(kNoiseCopyStride) * (gl_WorkGroupID.x % uint(
 // Round 16 (Params::steadyGainCompensation): the frame's gain, probed before the pass (bit 7: this
 // dispatch is the probe, probeGain) and read by it (bit 6: frameGain, once per invocation). The probe's
 // record follows the noise record's copies, on a 16-word line of its own (noise_estimate.h,
-// kGainRecordWords and on: 4 words).
+// kGainRecordWords and on: 4 words). Round 17 (Params::steadyGainRelightsAdmitted, bit 8): also where
+// the box admits the history, in a frame whose change the gain explains.
 const bool kGainCompensated = kMode == 4 && (kSteadyBoxSwitches & 64) != 0;
 const uint kGainBase = uint(kNoiseCopies * kNoiseCopyStride);
 const float kLumaSumScale = 1024.0;
@@ -214,6 +215,14 @@ void recordNoiseSamples(ivec2 p, ivec2 o, bool historyConfirmed, vec2 q, float c
   }
 }
 
+// The box's floor (Params::steadyClipQuantSrgb, processPixel) as a variance over kQuantVar at luma `level`:
+// IEC 61966-2-1's slope d(linear)/d(code) squared, bounded from below, for sRGB input; 1 for linear.
+float floorSlope2(float level) {
+  level = clamp(level, 0.0, 1.0);
+  const float srgbSlope2 = max(kIecSlopeScale2 * level * sqrt(sqrt(level)), 1.0 / (12.92 * 12.92));
+  return (kSteadyBoxSwitches & 2) != 0 ? srgbSlope2 : 1.0;
+}
+
 // Round 16: the probe, one sample per block (round 17: blocks of P.gainProbeBlockPx, 4 px up to 2^14
 // blocks an eye, filter_passes.h), at the block's centre, both eyes into one record: the luma of this
 // frame and of the history reprojected through the previous pose, summed (in [0, 1], units 2^-10: 2^21
@@ -250,7 +259,14 @@ void probeGain(ivec2 region) {
 }
 // The frame's gain from the probe's record: this frame's luma over the history's where the mean of
 // their difference lies 4 standard errors or more from 0 (round 15's test, noise_estimate.h,
-// kChangeTestStandardErrors: sigma = sqrt(pi / 2) E|r|); 1 elsewhere.
+// kChangeTestStandardErrors: sigma = sqrt(pi / 2) E|r|); 1 elsewhere. Round 17: whether the gain explains
+// the frame's change d (this frame's luma less the history's) and is more than the input's rounding: a
+// mean |d| of at least half a step of the 8-bit input at the history's mean luma (the box's floor: less is
+// no evidence), and |sum d| >= 1/2 sum |d|. A gain moves every sample the same way (|sum d| = sum |d|);
+// structure that moves (a video's zoom, content that slides) and noise move samples both ways and
+// cancel in the sum. (The footprint filter on square roots leaves a still picture's history 0.07 % dark:
+// significant, one-signed, and well under the floor.)
+bool gGainExplains = false;
 float frameGain() {
   const uint current = noiseBins[kGainBase], history = noiseBins[kGainBase + 1];
   const uint magnitude = noiseBins[kGainBase + 2], samples = noiseBins[kGainBase + 3];
@@ -258,7 +274,13 @@ float frameGain() {
   const float n = float(samples);
   const float meanDifference = float(int(current - history)) / (kLumaSumScale * n);
   const float standardError = sqrt(0.5 * kPi) * float(magnitude) / (kResidualSumScale * n) * inversesqrt(n);
-  return abs(meanDifference) >= 4.0 * standardError ? float(current) / float(history) : 1.0;
+  const bool significant = abs(meanDifference) >= 4.0 * standardError;
+  const float meanMagnitude = float(magnitude) / (kResidualSumScale * n);
+  const float historyMean = float(history) / (kLumaSumScale * n);
+  const bool relightsAdmitted = (kSteadyBoxSwitches & 256) != 0;  // spelled out: see main
+  gGainExplains = relightsAdmitted && meanDifference * meanDifference >= kQuantVar * floorSlope2(historyMean) &&
+                  abs(meanDifference) >= 0.5 * meanMagnitude;
+  return significant ? float(current) / float(history) : 1.0;
 }
 float gFrameGain = 1.0;
 
@@ -369,10 +391,7 @@ void processPixel(ivec2 p, ivec2 o) {
     // slope d(linear)/d(code) is (2.4 / 1.055) L^(7/12) above its toe; L^(5/8) bounds it from below
     // (0.79-1.0 of it over the codes), so the floor never reaches half a code and a history clipped
     // onto it still rounds to the input's own code. Never below the toe's 1/12.92. Squared: L^(5/4).
-    const float level = clamp(ymn.x, 0.0, 1.0);
-    const float srgbSlope2 = max(kIecSlopeScale2 * level * sqrt(sqrt(level)), 1.0 / (12.92 * 12.92));
-    const float floorSlope2 = (kSteadyBoxSwitches & 2) != 0 ? srgbSlope2 : 1.0;
-    clipExt2 += kQuantVar * floorSlope2;
+    clipExt2 += kQuantVar * floorSlope2(ymn.x);
     // Params::steadyNoiseEstimate: the box widened by one pixel's noise, so that a history may differ
     // from it by as much as the noisy render itself differs from the truth (i.i.d. noise s2 per RGB
     // channel is 3/8, 1/2, 3/8 s2 per YCoCg channel). Three of the centre's standard deviations
@@ -396,7 +415,9 @@ void processPixel(ivec2 p, ivec2 o) {
     // history the box admits keeps its value, so a gain that drifts by a few tenths of a percent (a
     // video's zoom) cannot bias it pixel by pixel; a still surround beside changing content keeps its
     // own. The evidence against the count stays the history's own (asWasT2): a relit history is a
-    // hypothesis the box admits, not a confirmation.
+    // hypothesis the box admits, not a confirmation. Round 17: where the gain explains the frame's change
+    // (gGainExplains) also where the box admits the history: a fade's lag inside a wide box; a video's
+    // drifting gain explains none of its change.
     if (kGainCompensated && gFrameGain != 1.0) {  // uniform: no gain found, nothing to do
       const vec3 relit = historyYCoCg * gFrameGain;
       const vec3 relitD = relit - boxCentre;
@@ -405,7 +426,7 @@ void processPixel(ivec2 p, ivec2 o) {
       const float relitT2 = max(relitT2v.x, max(relitT2v.y, relitT2v.z));
       const vec3 asWas = historyYCoCg - estimateYCoCg, scaled = relit - estimateYCoCg;
       const bool nearer = dot(scaled * scaled / boxExt2, vec3(1.0)) < dot(asWas * asWas / boxExt2, vec3(1.0));
-      const bool takeRelit = t2 > 1.0 && relitT2 <= 1.0 && nearer;
+      const bool takeRelit = (t2 > 1.0 || gGainExplains) && relitT2 <= 1.0 && nearer;
       d = takeRelit ? relitD : d;
       clipExt2 = takeRelit ? relitExt2 : clipExt2;
       t2 = takeRelit ? relitT2 : t2;

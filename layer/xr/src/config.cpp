@@ -123,6 +123,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_noise_residual_over_time", &core::Params::steadyNoiseResidualOverTime},
     {"steady_noise_change_test", &core::Params::steadyNoiseChangeTest},
     {"steady_gain_compensation", &core::Params::steadyGainCompensation},
+    {"steady_gain_relights_admitted", &core::Params::steadyGainRelightsAdmitted},
     {"stereo_inverse_variance", &core::Params::stereoInverseVariance},
     {"stereo_tap_curvature", &core::Params::stereoTapCurvature},
 };

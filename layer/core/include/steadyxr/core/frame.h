@@ -88,11 +88,13 @@ struct PassTimings {
 
 // What steady's gain probe (Params::steadyGainCompensation) summed in a frame, both eyes together: its
 // samples, and their mean luma (R/4 + G/2 + B/4, each sample clamped to [0, 1]) in this frame and in the
-// history reprojected to it. The frame's gain is decided from these on the GPU (temporal.comp).
+// history reprojected to it, and the mean magnitude of their difference (clamped to 0.5). The frame's
+// gain, and whether it explains the change (round 17), are decided from these on the GPU (temporal.comp).
 struct GainProbeSums {
   uint32_t samples = 0;
   double currentMeanLuma = 0.0;
   double historyMeanLuma = 0.0;
+  double meanChangeMagnitude = 0.0;
   uint64_t frameIndex = 0;  // which submitted frame these belong to
 };
 

@@ -178,8 +178,9 @@ struct Params {
   // gain. A fade or an exposure change of a fraction of an 8-bit code per frame moves every pixel by less
   // than its own rounding, so no 3x3 can tell it from aliasing, and where the box is its floor the lagging
   // history is clipped onto it (a dark fade's first frame reached 1.37x none's, held-out seed 40). The
-  // whole frame can tell: before the temporal pass a probe sums, at one pixel in 16 of both eyes, the luma
-  // of this frame and of the reprojected history (clamped to [0, 1]: HDR above 1 leans to no gain); where
+  // whole frame can tell: before the temporal pass a probe sums, at one pixel in 16 of both eyes (at most
+  // 16384 an eye since round 17, filter_passes.h), the luma of this frame and of the reprojected history
+  // (clamped to [0, 1]: HDR above 1 leans to no gain); where
   // their mean difference lies 4 standard errors from 0 (round 15's test) the gain is the ratio of the
   // sums, else 1. A pixel takes the relit history only where the box rejects the history as it was, the
   // relit one lies inside the box and nearer the frame's own estimate; the count still falls by the
@@ -187,6 +188,13 @@ struct Params {
   // percent (a video's zoom) would otherwise bias pixels one by one (a video frame 1.09x none's against
   // 1.04x). FSR2 asks the app for this gain (its pre-exposure); a layer measures it. false: round 15's.
   bool steadyGainCompensation = true;
+  // Round 17 (the default, with steadyGainCompensation): the relit history is also taken where the box
+  // admits the history as it was (texture, edges: a fade's first frames lag inside a wide box), but only
+  // in a frame whose change the gain explains: over the probe's samples the change d (this frame's luma
+  // less the history's) is one-signed for at least half its magnitude, |sum d| >= 1/2 sum |d|. A gain
+  // moves every sample the same way (a fade: near 1); structure that moves (a video's zoom) and noise
+  // move them both ways (near 0), so a video's drifting gain relights nothing. false: round 16's rule.
+  bool steadyGainRelightsAdmitted = true;
   // The noise variance per linear RGB channel to use when steadyNoiseEstimate is off (0 = a clean
   // render: steady as before round 13). The eval tells it the scene's own (noisevar=-1).
   float steadyNoiseVariance = 0.0f;
