@@ -258,7 +258,8 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
                 // Round 16: the frame's gain, read by the pass (64) or probed (128).
                 (params.steadyGainCompensation ? (sw.gainProbe ? 128 : 64) : 0) |
                 // Round 17: the relit history also where the box admits the history, if the gain explains.
-                (params.steadyGainCompensation && params.steadyGainRelightsAdmitted && !sw.gainProbe ? 256 : 0)
+                (params.steadyGainCompensation && params.steadyGainRelightsAdmitted && !sw.gainProbe ? 256
+                                                                                                     : 0)
           : 0};
 }
 
