@@ -63,19 +63,6 @@ std::optional<double> firstFadedFrameLag(bool on, float gain) {
   return lag / step;
 }
 
-// The frame's gain as the probe takes it, written from its rule: the luma (R/4 + G/2 + B/4) of this
-// frame over the previous one's, summed at one pixel in 16 (x, y = 2 mod 4).
-double probedGain(const HostImage& now, const HostImage& before) {
-  double sumNow = 0.0, sumBefore = 0.0;
-  for (uint32_t y = 2; y < now.height; y += 4)
-    for (uint32_t x = 2; x < now.width; x += 4) {
-      const glm::vec4 a = now.at(x, y), b = before.at(x, y);
-      sumNow += 0.25 * a.r + 0.5 * a.g + 0.25 * a.b;
-      sumBefore += 0.25 * b.r + 0.5 * b.g + 0.25 * b.b;
-    }
-  return sumNow / sumBefore;
-}
-
 // The probe's sums written from its rule (filter_passes.h): at the pixels (B/2 + i B, B/2 + j B) of an
 // eye, B = 4 up to 16384 samples an eye (else the smallest power of two that keeps to them), the luma
 // (R/4 + G/2 + B/4, clamped to [0, 1]) of this frame and of the history (here the previous output: the
@@ -102,6 +89,13 @@ GainProbeSums probeSumsByRule(const std::array<HostImage, 2>& now, const std::ar
   for (double* mean : {&sums.currentMeanLuma, &sums.historyMeanLuma, &sums.meanChangeMagnitude})
     *mean /= sums.samples;
   return sums;
+}
+
+// The frame's gain as the probe takes it: this frame's mean luma over the previous one's, at the
+// probe's samples (the same picture in both eyes).
+double probedGain(const HostImage& now, const HostImage& before) {
+  const GainProbeSums sums = probeSumsByRule({now, now}, {before, before});
+  return sums.currentMeanLuma / sums.historyMeanLuma;
 }
 
 // Eye e's picture in frame k: a pattern times a ramp that rises to the right and down (a probe that

@@ -255,11 +255,11 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
                 (params.steadyNoiseEstimate ? 16 : 0) |
                 // Round 14: the residual's histogram, only where the host reads it.
                 (params.steadyNoiseEstimate && params.steadyNoiseResidualOverTime ? 32 : 0) |
-                // Round 16: the frame's gain, read by the pass (64) or probed (128).
-                (params.steadyGainCompensation ? (sw.gainProbe ? 128 : 64) : 0) |
-                // Round 17: the relit history also where the box admits the history, if the gain explains.
-                (params.steadyGainCompensation && params.steadyGainRelightsAdmitted && !sw.gainProbe ? 256
-                                                                                                     : 0)
+                // Round 16: the frame's gain, read by the pass (64) or probed (128); round 17: the pass
+                // relights a history the box admits too, where the gain explains the change (256).
+                (params.steadyGainCompensation
+                     ? (sw.gainProbe ? 128 : (64 | (params.steadyGainRelightsAdmitted ? 256 : 0)))
+                     : 0)
           : 0};
 }
 
