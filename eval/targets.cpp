@@ -144,6 +144,21 @@ std::vector<TargetCheck> checkTargets(const std::vector<ResultRow>& rows,
     out.push_back({"stereo: default RMSE not above " + defaultTemporal + "'s in any case", m.summary("met"),
                    m.cases.empty(), m.checked > 0});
   }
+  // 5. The promise, never worse than doing nothing, for shimmer: on every low-head-speed case
+  //    the default's temporal error at most none's (round 18; not one of the numbered targets).
+  {
+    Misses m;
+    for (const std::string& c : cases) {
+      const ResultRow *d = findRow(rows, c, "default"), *n = findRow(rows, c, "none");
+      if (!d || !n || !d->lowSpeed) continue;
+      ++m.checked;
+      const double ratio = safeDiv(d->temporalError, n->temporalError);
+      if (d->temporalError > n->temporalError) m.add(ratio, c + " " + fmt(ratio, 3) + "x");
+    }
+    out.push_back({"shimmer, the promise: default temporal error <= none's (cases with head speed p95 < " +
+                       fmt(kLowSpeedDegPerSec, 3) + " deg/s)",
+                   m.summary("met"), m.cases.empty(), m.checked > 0});
+  }
   for (TargetCheck& t : out) {
     if (!t.evaluated) {
       t.met = false;
