@@ -164,9 +164,12 @@ def ablation(out):
               f"{worst:.2f}× | {mean(st):.3f} | {med:.2f} |")
         met = sum(v <= SHIMMER_TARGET for v in shimmer)
         settled = settled_shimmer(out, cases, m)
+        # Round 18: the promise on shimmer, no more than none's (eval/targets.cpp), with and without the start.
         shimmer_lines.append(f"{m}: {met}/{len(shimmer)} cases, median {med:.2f}" +
                              (f", after the first {SETTLE_FRAMES} frames {median(settled):.2f}" if settled else "") +
-                             (f" (MTCD {median(mtcd):.2f})" if mtcd else ""))
+                             (f" (MTCD {median(mtcd):.2f})" if mtcd else "") +
+                             f"; above none's in {sum(v > 1.0 for v in shimmer)}" +
+                             (f" ({sum(v > 1.0 for v in settled)} after the first {SETTLE_FRAMES})" if settled else ""))
     floors = [float(c["none"]["temporal_error_truth8"]) / float(c["none"]["temporal_error"])
               for c in cases.values() if "none" in c and c["none"]["low_speed"] == "1"
               and float(c["none"]["temporal_error"]) > 0 and "temporal_error_truth8" in c["none"]]
