@@ -36,7 +36,9 @@ for r in rows:
     assert 0.0 <= float(r["rmse"]) < 1.0 and 0.0 < float(r["ssim"]) <= 1.0 + 1e-9
 with open(os.path.join(out, "results.json")) as f:
     data = json.load(f)
-assert len(data["results"]) == len(rows) and len(data["targets"]) == 8
+# Issue 14's eight targets and round 18's promise on shimmer (eval/targets.cpp).
+assert len(data["results"]) == len(rows) and len(data["targets"]) == 9
+assert data["targets"][-1]["target"].startswith("shimmer, the promise")
 assert data["config"]["srgb"] and data["config"]["mipmaps"]
 assert "[MET]" in res.stdout or "[MISSED]" in res.stdout, "target lines missing"
 # The jittered variant differs from the unjittered one (the jitter reached the render and the core).
