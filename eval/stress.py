@@ -187,6 +187,9 @@ def judge(case, out_dir):
         "changes": int(d["motion_changes"]),
         "taa_ratio": float(d["rmse"]) / best_taa,
         "head_p95": float(d["head_speed_p95"]),
+        # Round 18: the promise on shimmer (eval/targets.cpp), judged on low-head-speed cases only.
+        "low_speed": n["low_speed"] == "1",
+        "shimmer_ratio": float(d["temporal_error"]) / max(float(n["temporal_error"]), 1e-12),
     }
     # What the worst frame was: the default's error rising (a ghost) or none's falling (a lucky
     # frame of none's, its sampling grid on the picture's phase), each against its own median.
@@ -273,6 +276,8 @@ def summary(cases):
             f"recovery over {RECOVERY_LIMIT} frames in {sum(not v['recovery_ok'] for v in judged)} "
             f"(undecided at the run's end in {sum(v['recovery_undecided'] for v in judged)}); "
             f"default <= the better taa in {sum(v['taa_ratio'] <= 1.0 for v in judged)}/{len(judged)}; "
+            f"shimmer above none's in {sum(v['low_speed'] and v['shimmer_ratio'] > 1.0 for v in judged)} of the "
+            f"{sum(v['low_speed'] for v in judged)} low-speed cases; "
             f"eval failures {sum('verdict' not in c for c in cases)}")
 
 
