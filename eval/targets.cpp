@@ -82,17 +82,21 @@ std::vector<TargetCheck> checkTargets(const std::vector<ResultRow>& rows,
                    recovery.summary("met"), recovery.cases.empty(), recovery.checked > 0});
   }
   // 2. Shimmer: temporal error vs ground truth <= 40 % of none's on every low-head-speed case.
+  //    And the promise, never worse than doing nothing, for shimmer: at most none's on the same
+  //    cases (round 18; not one of the numbered targets, listed last).
+  Misses shimmerPromise;
   {
     Misses m;
-    std::string mtcd;
     for (const std::string& c : cases) {
       const ResultRow *d = findRow(rows, c, "default"), *n = findRow(rows, c, "none");
       if (!d || !n || !d->lowSpeed) continue;
       ++m.checked;
+      ++shimmerPromise.checked;
       const double ratio = safeDiv(d->temporalError, n->temporalError);
       if (ratio > 0.40)
         m.add(ratio,
               c + " " + fmt(100 * ratio, 3) + "% (MTCD " + fmt(100 * safeDiv(d->mtcd, n->mtcd), 3) + "%)");
+      if (d->temporalError > n->temporalError) shimmerPromise.add(ratio, c + " " + fmt(ratio, 3) + "x");
     }
     out.push_back({"shimmer: default temporal error <= 40% of none's (cases with head speed p95 < " +
                        fmt(kLowSpeedDegPerSec, 3) + " deg/s)",
@@ -144,21 +148,9 @@ std::vector<TargetCheck> checkTargets(const std::vector<ResultRow>& rows,
     out.push_back({"stereo: default RMSE not above " + defaultTemporal + "'s in any case", m.summary("met"),
                    m.cases.empty(), m.checked > 0});
   }
-  // 5. The promise, never worse than doing nothing, for shimmer: on every low-head-speed case
-  //    the default's temporal error at most none's (round 18; not one of the numbered targets).
-  {
-    Misses m;
-    for (const std::string& c : cases) {
-      const ResultRow *d = findRow(rows, c, "default"), *n = findRow(rows, c, "none");
-      if (!d || !n || !d->lowSpeed) continue;
-      ++m.checked;
-      const double ratio = safeDiv(d->temporalError, n->temporalError);
-      if (d->temporalError > n->temporalError) m.add(ratio, c + " " + fmt(ratio, 3) + "x");
-    }
-    out.push_back({"shimmer, the promise: default temporal error <= none's (cases with head speed p95 < " +
-                       fmt(kLowSpeedDegPerSec, 3) + " deg/s)",
-                   m.summary("met"), m.cases.empty(), m.checked > 0});
-  }
+  out.push_back({"shimmer, the promise: default temporal error <= none's (cases with head speed p95 < " +
+                     fmt(kLowSpeedDegPerSec, 3) + " deg/s)",
+                 shimmerPromise.summary("met"), shimmerPromise.cases.empty(), shimmerPromise.checked > 0});
   for (TargetCheck& t : out) {
     if (!t.evaluated) {
       t.met = false;
