@@ -182,15 +182,16 @@ run_case() {
   # compositor's rate (shared/notes: the null compositor 20 Hz, xcb about 55 Hz), a filtered one
   # takes at least the filter's GPU time (lavapipe: ~75 ms at xcb's 896x1007). Counted in frames,
   # a 1.8 s compile gave 98 waiting against 87 filtered in a 14 s session (round 18's clean clone).
-  local warming gpu_ms compositor_hz
+  local warming gpu_ms compositor_hz waiting_s filtered_s
   warming=$(sed -n 's/.*frames_warming_up=\([0-9]*\).*/\1/p' <<<"$summary")
   gpu_ms=$(sed -n 's/.*gpu_ms_mean:.* total=\([0-9.]*\).*/\1/p' <<<"$summary")
   compositor_hz=$([[ $compositor == xcb ]] && echo 55 || echo 20)
   echo "[$case_name] ${warming:-no} frames passed through while the pipelines compiled"
-  awk -v w="${warming:-999999}" -v f="$filtered" -v ms="${gpu_ms:-0}" -v hz="$compositor_hz" \
-    'BEGIN { frame = 1 / hz; if (ms / 1000 > frame) frame = ms / 1000; exit !(w / hz < f * frame) }' ||
-    fail "${warming:-no} frames waited for the filter's pipelines ($(awk -v w="${warming:-0}" -v hz="$compositor_hz" \
-      'BEGIN { printf "%.1f", w / hz }') s), $filtered filtered at ${gpu_ms:-?} ms (want less time waiting)"
+  read -r waiting_s filtered_s < <(awk -v w="${warming:-999999}" -v f="$filtered" -v ms="${gpu_ms:-0}" \
+    -v hz="$compositor_hz" 'BEGIN { frame = 1 / hz; if (ms / 1000 > frame) frame = ms / 1000
+                                    printf "%.3f %.3f\n", w / hz, f * frame }')
+  awk -v a="$waiting_s" -v b="$filtered_s" 'BEGIN { exit !(a < b) }' ||
+    fail "${warming:-no} frames waited for the filter's pipelines (${waiting_s} s), $filtered filtered (${filtered_s} s at ${gpu_ms:-?} ms; want less time waiting)"
   local cv=$hdir/core_validation.txt
   if [[ ! -f $cv ]]; then
     fail "core_validation wrote no report (not loaded?)"
