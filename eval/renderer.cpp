@@ -3,6 +3,7 @@
 #include "renderer.h"
 
 #include "renderer_impl.h"
+#include "truth_samples.h"
 
 #include <algorithm>
 #include <array>
@@ -141,7 +142,7 @@ bool SceneRenderer::renderGroundTruth(const EyeCamera& cam, const DrawList& draw
         VkClearRect rect{{{0, 0}, {uint32_t(m.width), uint32_t(m.height)}}, 0, 1};
         vkCmdClearAttachments(m.cmd, 1, &ca, 1, &rect);
       }
-      const glm::vec2 jitter((sx + 0.5f) / gridSize - 0.5f, (sy + 0.5f) / gridSize - 0.5f);
+      const glm::vec2 jitter = truthSampleOffset(sx, sy, gridSize);
       // The background colour is accumulated as a full-screen quad behind everything.
       DrawList bg;
       DrawQuad q;

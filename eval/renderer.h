@@ -1,7 +1,7 @@
 // The harness's minimal scene rasteriser: textured quads with a depth buffer, one vertex +
 // fragment shader pair, rendered at 1 sample per pixel (the "app" image the filter gets),
 // with MSAA 2x/4x (same pipeline, multisampled target resolved), and as ground truth
-// (N x N jittered 1-sample renders accumulated in a float target).
+// (N x N jittered 1-sample renders, truth_samples.h, accumulated in a float target).
 #pragma once
 
 #include "camera.h"
@@ -61,8 +61,8 @@ class SceneRenderer {
   // samples = 2 or 4; resolved into eye `eye`'s MSAA target of that sample count.
   bool renderMsaa(int samples, int eye, const EyeCamera& cam, const DrawList& draws, Image* out,
                   double* gpuMs, std::string* error);
-  // gridSize x gridSize stratified jittered renders, box-filtered in linear light when sRGB (noise
-  // is never added); returned display-encoded like every other image.
+  // gridSize x gridSize renders offset by N-rooks (truth_samples.h), box-filtered in linear light
+  // when sRGB (noise is never added); returned display-encoded like every other image.
   bool renderGroundTruth(const EyeCamera& cam, const DrawList& draws, int gridSize, Image* out,
                          std::string* error);
   // Reads one of the filter output images back.

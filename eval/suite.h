@@ -25,7 +25,7 @@ struct Options {
   double appHz = 30.0;
   double displayHz = 90.0;
   double startSec = 0.0;
-  int gtGrid = 4;               // ground truth: gtGrid^2 jittered samples per pixel
+  int gtGrid = 8;               // ground truth: gtGrid^2 N-rooks samples per pixel (truth_samples.h)
   int warpSteps = 6;            // seed 004 study: extrapolate up to this many display frames
   float errorThreshold = 0.1f;  // seed 004 error-pixel threshold (any channel, [0, 1] scale)
   float noise = 0.0f;   // > 0: per-frame noise of this amplitude on every scene (noisy variant of any scene)
