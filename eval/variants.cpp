@@ -143,7 +143,9 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
         v->noiseOracle = -value;
       else
         params->steadyNoiseVariance = value;
-    } else if (key == "boxcur")
+    } else if (key == "hold")  // round 20: the 8-bit output's hysteresis in codes beyond 1/2 (0 = rounding)
+      params->steadyOutputHold = value;
+    else if (key == "boxcur")
       params->steadyClipHoldsCurrent = value != 0.0f;
     else if (key == "curvbox")
       params->steadyClipCurvature = value != 0.0f;

@@ -51,6 +51,8 @@ layout(set = 0, binding = 8, rgba8) uniform writeonly image2D uHistOut8;  // UNO
 // This eye's input as the app submitted it: the alpha of every output (alphaOf). The history's
 // alpha is the temporal method's own (steady: its sample count).
 layout(set = 0, binding = 7) uniform sampler2D uAppInput;
+layout(set = 0, binding = 10) uniform sampler2D uShownIn;  // the 8-bit output's codes last frame (hold)
+layout(set = 0, binding = 11, rgba8) uniform writeonly image2D uShownOut;  // and this frame's
 
 // Normalised depth n -> 1/z: 1/z = invNear + n * invFarMinusInvNear, n = (d - minDepth) *
 // invDepthRange (invZFromDepth).
@@ -110,6 +112,8 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float steadyClipCurvatureInner;  // steady (round 7): the one-sided curvature box's inner bound (spec bit0)
   float steadyNoiseVariance;       // steady (round 13): the render's noise variance per linear RGB channel
   int gainProbeBlockPx;            // steady's gain probe (round 17): one sample per block of this side
+  float steadyOutputHold;          // steady (round 20): the 8-bit output's hysteresis, codes beyond 1/2
+  int shownValid;                  // steady (round 20): 1 = last frame's shown codes are this pass's
 } P;
 
 vec3 sanitize(vec3 c) {
@@ -336,6 +340,35 @@ void storeOutput(ivec2 p, vec4 o) {
     o.rgb = clamp(o.rgb, 0.0, 1.0);
     o.rgb = vec3(linearToSrgb1(o.r), linearToSrgb1(o.g), linearToSrgb1(o.b));
   }
+  if (kSwapRB) o = o.bgra;
+  imageStore(uOut, P.outOffset + p, o);
+}
+
+// 8-bit output codes (unrounded) of linear c: the pass's own sRGB encoding, or UNORM's codes.
+vec3 outputCodes(vec3 c) {
+  c = clamp(c, 0.0, 1.0);
+  return 255.0 * (kEncodeSrgb ? vec3(linearToSrgb1(c.r), linearToSrgb1(c.g), linearToSrgb1(c.b)) : c);
+}
+
+// Round 20 (Params::steadyOutputHold): an 8-bit output with hysteresis. Each channel keeps the code
+// it showed last frame, at the texel the reprojection came from, while the estimate c lies within
+// 1/2 + hold codes of it and moved by less than half a code since last frame (`before`: last frame's
+// estimate there); elsewhere it rounds. Rounding alone flips a code wherever an estimate that hovers
+// at a boundary crosses it, frame after frame, though the picture did not change by a code. A change
+// of half a code or more a frame (a fade) is shown as rounding shows it: held, a fade of 0.8 of a code
+// a frame went in steps of two codes every other frame. Below half a code no code is skipped (that
+// takes a move of 1 - hold). The shown codes are written exactly (k / 255 stores as k).
+void storeHeldOutput(ivec2 p, vec3 c, float alpha, bool shownBefore, vec2 from, vec3 before, float hold) {
+  const vec3 code = outputCodes(c);
+  vec3 shown = round(code);
+  if (shownBefore) {
+    const vec3 last = round(255.0 * texelFetch(uShownIn, clamp(ivec2(floor(from)), ivec2(0), P.src1Size - 1), 0).rgb);
+    const bvec3 nearLast = lessThanEqual(abs(code - last), vec3(0.5 + hold));
+    const bvec3 barelyMoved = lessThanEqual(abs(code - outputCodes(before)), vec3(0.5));
+    shown = mix(shown, last, vec3(nearLast) * vec3(barelyMoved));
+  }
+  imageStore(uShownOut, p, vec4(shown * (1.0 / 255.0), 1.0));
+  vec4 o = vec4(shown * (1.0 / 255.0), alpha);
   if (kSwapRB) o = o.bgra;
   imageStore(uOut, P.outOffset + p, o);
 }

@@ -341,6 +341,10 @@ void processPixel(ivec2 p, ivec2 o) {
   vec3 result = cur;
   float count = 1.0;  // the history's alpha: steady's sample count, 1 for the other modes
   const bool historyValid = P.historyValid != 0;
+  vec2 shownFrom = vec2(0.0);  // steady: where the reprojection came from, for the held output
+  vec3 estimateBefore = vec3(0.0);  // and last frame's estimate there (the history's tap)
+  bool shownBefore = false;
+  float shownHold = 0.0;
   if (mode == kSteady) {
     // Steady (README, method): the history reprojected through the exact previous render pose
     // (reproj[0]); clipped to the YCoCg box mean +- gamma*sigma of the current 3x3; blended with
@@ -349,7 +353,15 @@ void processPixel(ivec2 p, ivec2 o) {
     vec2 q;
     float iz;
     const bool confirmed = reproject(P.reproj[0], pc, invZ, q, iz) && historyValid;
+    shownFrom = q;
+    shownBefore = confirmed && P.shownValid != 0;
+    // The hold is for a picture that stood still: its margin shrinks with how far the picture moved at
+    // this pixel since last frame, to nothing at half a pixel, where last frame's code is as likely a
+    // neighbour's (a turn over a fine grating: codes of other places, kept).
+    const vec2 moved = abs(q - pc);
+    shownHold = P.steadyOutputHold * max(1.0 - 2.0 * max(moved.x, moved.y), 0.0);
     vec4 hs = sampleHistoryRgba(q);  // q is clamped into the image inside
+    estimateBefore = hs.rgb;
     if (kNoiseSampled && inRange) recordNoiseSamples(p, o, confirmed, q, toYCoCg(fc - hs.rgb).x);
     // Params::steadyClipCurvatureCentredGated (an option, off): the sign of the history's alpha is the
     // side of the current estimate its luma lay on last frame (negative: above). A history lagging
@@ -495,7 +507,11 @@ void processPixel(ivec2 p, ivec2 o) {
   if (inRange) {
     // The history's alpha is steady's sample count; the output's alpha is the app's (alphaOf).
     if (kWriteHist) storeHistory(p, result, count, P.steadyAlphaFloor);  // 8-bit: steady's count / its cap
-    if (kWriteOut) storeOutput(p, vec4(result, neighbourhood ? blockAlphaOf(p, o) : alphaOf(p)));
+    // Round 20 (Params::steadyOutputHold): the 8-bit output keeps last frame's code (storeHeldOutput).
+    bool outputHeld = kMode == 4 && (kSteadyBoxSwitches & 512) != 0;  // not const: see main
+    const float outAlpha = kWriteOut ? (neighbourhood ? blockAlphaOf(p, o) : alphaOf(p)) : 1.0;
+    if (kWriteOut && outputHeld) storeHeldOutput(p, result, outAlpha, shownBefore, shownFrom, estimateBefore, shownHold);
+    if (kWriteOut && !outputHeld) storeOutput(p, vec4(result, outAlpha));
   }
 }
 

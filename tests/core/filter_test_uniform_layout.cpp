@@ -128,10 +128,12 @@ const std::vector<Member> kPassUniforms = {
     HOST_MEMBER(PassUniforms, steadyClipCurvatureInner),
     HOST_MEMBER(PassUniforms, steadyNoiseVariance),
     HOST_MEMBER(PassUniforms, gainProbeBlockPx),
+    HOST_MEMBER(PassUniforms, steadyOutputHold),
+    HOST_MEMBER(PassUniforms, shownValid),
 };
 // The table lists every host member: the last one (4 bytes) ends the struct, up to its 16-byte
 // alignment.
-static_assert(offsetof(PassUniforms, gainProbeBlockPx) + sizeof(int32_t) + 16 > sizeof(PassUniforms));
+static_assert(offsetof(PassUniforms, shownValid) + sizeof(int32_t) + 16 > sizeof(PassUniforms));
 
 const std::vector<Member> kDepthToInvZ = {
     HOST_MEMBER(DepthToInvZ, invNear),

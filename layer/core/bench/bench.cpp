@@ -59,7 +59,8 @@ void usage() {
                "where the history lags on one side (steadyClipCurvatureCentredGated, an option);\n"
                "@noisy, @noisy=0: the render's noise estimated and the box widened by it, or not\n"
                "(steadyNoiseEstimate; the default since round 15); @gain=0: without the frame's gain\n"
-               "probe and its compensation (steadyGainCompensation; the default since round 16).\n";
+               "probe and its compensation (steadyGainCompensation; the default since round 16);\n"
+               "@hold=0: the 8-bit output rounded, not held (steadyOutputHold; held since round 20).\n";
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -292,6 +293,8 @@ std::optional<Params> methodParams(const std::string& spec) {
       params->steadyNoiseEstimate = false;
     else if (suffix == "gain=0")  // the default without the gain probe (the default before round 16)
       params->steadyGainCompensation = false;
+    else if (suffix == "hold=0")  // the default with plain rounding (the default before round 20)
+      params->steadyOutputHold = 0.0f;
     else
       return std::nullopt;
   }

@@ -48,6 +48,13 @@ Traffic modelTraffic(const core::Params& params, VkFormat inputFormat, bool bloc
     else
       t.samples += taps;
     if (!stereo && m == TemporalMethod::Hmtaa) t.fetches += 1;  // alphaOf
+    // Round 20: steady's held 8-bit output reads last frame's shown codes and writes this frame's.
+    if (m == TemporalMethod::Steady && params.steadyOutputHold > 0.0f && !stereo && out == 4.0) {
+      t.readBytes += 4.0;
+      t.writeBytes += 4.0;
+      t.fetches += 1;
+      t.stores += 1;
+    }
   }
   if (m != TemporalMethod::None) {  // the stage-1 pass writes the history (fxaa: when stereo reads it)
     const bool writesHistory = temporal || stereo;

@@ -97,6 +97,11 @@ PassDispatch fxaaPass(const PassContext& c, uint32_t e) {
   return firstStage(c, e, Pass::Fxaa);
 }
 
+bool writesHeldOutput(const PassContext& c, uint32_t e) {
+  return outputHeld(c.params) && c.plan.temporal && c.eyes[e].shown[0].image && !c.plan.stereo &&
+         c.plan.targets[e].fmt == kOut8;
+}
+
 PassDispatch temporalPass(const PassContext& c, uint32_t e) {
   PassDispatch d = firstStage(c, e, Pass::Temporal);
   PassUniforms& u = d.uniforms;
@@ -110,6 +115,13 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
   u.src1Size = historySize(c, e);
   u.src1InvExtent = historyInvExtent(c, e);
   u.historyValid = eye.valid ? 1 : 0;
+  // Round 20: the 8-bit output keeps last frame's codes (storeHeldOutput); a float output is not rounded.
+  if (writesHeldOutput(c, e)) {
+    d.io.shownIn = Binding{eye.shown[c.historyWrite ^ 1u].view.get(), VK_IMAGE_LAYOUT_GENERAL, true};
+    d.io.shownOut = eye.shown[c.historyWrite].view.get();
+    u.steadyOutputHold = params.steadyOutputHold;
+    u.shownValid = eye.valid && eye.shownValid ? 1 : 0;  // last frame's codes were written by this pass
+  }
   // Seed 003 Eq. 1: the past samples through poses interpolated between the previous and this
   // one, weighted by W(d_i) of Eq. 2 (hmtaa, hybrid; steady when steadyInterpolated, one sample).
   const bool steady = method == TemporalMethod::Steady;
@@ -186,8 +198,8 @@ PassDispatch stereoPass(const PassContext& c, uint32_t e) {
   u = baseUniforms(c, e);
   d.switches = baseSwitches(c, e);
   d.switches.writeOutput = true;
-  d.io = {c.plan.inputs[e], c.plan.inputs[o],       c.plan.depths[e], c.plan.depths[o],
-          VK_NULL_HANDLE,   c.plan.targets[e].view, c.plan.inputs[e]};
+  d.io = {c.plan.inputs[e],       c.plan.inputs[o], c.plan.depths[e], c.plan.depths[o], VK_NULL_HANDLE,
+          c.plan.targets[e].view, c.plan.inputs[e], Binding{},        VK_NULL_HANDLE};
   const ImageRef& inO = c.frame.views[o].color;
   u.src1Offset = {inO.rect.offset.x, inO.rect.offset.y};
   u.src1Size = {inO.rect.extent.width, inO.rect.extent.height};
@@ -259,7 +271,9 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
                 // relights a history the box admits too, where the gain explains the change (256).
                 (params.steadyGainCompensation
                      ? (sw.gainProbe ? 128 : (64 | (params.steadyGainRelightsAdmitted ? 256 : 0)))
-                     : 0)
+                     : 0) |
+                // Round 20: the 8-bit output held (storeHeldOutput), where the pass binds the codes.
+                (d.io.shownOut != VK_NULL_HANDLE ? 512 : 0)
           : 0};
 }
 

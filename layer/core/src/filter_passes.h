@@ -33,6 +33,11 @@ struct PassSwitches {
   bool gainProbe = false;       // steady: the frame's gain probe (round 16), no output, no history
 };
 
+// Params::steadyOutputHold in force: steady's temporal pass keeps the codes of the 8-bit output it writes.
+inline bool outputHeld(const Params& p) {
+  return p.temporal == TemporalMethod::Steady && p.steadyOutputHold > 0.0f;
+}
+
 // An image a pass samples.
 struct Binding {
   VkImageView view = VK_NULL_HANDLE;
@@ -49,6 +54,8 @@ struct PassIo {
   VkImageView historyOut = VK_NULL_HANDLE;  // 4 (RGBA16F) or 8 (RGBA8): this frame's history
   VkImageView output = VK_NULL_HANDLE;      // 5: the output (or its scratch image)
   Binding appInput;                         // 7: the app's input of this eye (every output's alpha)
+  Binding shownIn;                          // 10: the codes the output showed last frame (hold)
+  VkImageView shownOut = VK_NULL_HANDLE;    // 11: the codes it shows this frame
 };
 
 // One dispatch, ready to record.
@@ -101,6 +108,8 @@ struct PassContext {
 PassDispatch copyPass(const PassContext& c, uint32_t e);
 PassDispatch fxaaPass(const PassContext& c, uint32_t e);
 PassDispatch temporalPass(const PassContext& c, uint32_t e);
+// The temporal pass writes eye e's 8-bit output with steadyOutputHold (and the codes it shows).
+bool writesHeldOutput(const PassContext& c, uint32_t e);
 // Steady's gain probe of eye e (Params::steadyGainCompensation): before the temporal passes, both eyes.
 PassDispatch gainProbePass(const PassContext& c, uint32_t e);
 // The probe's samples: the pixels at (B/2 + i B, B/2 + j B) of an eye of width x height, for blocks of

@@ -130,6 +130,7 @@ std::vector<VkImageMemoryBarrier> Filter::Impl::transitionIn(VkCommandBuffer cmd
   for (uint32_t e = 0; e < n; ++e) {
     for (auto& h : eyes[e].history) addOwned(h);
     for (auto& sc : eyes[e].scratch) addOwned(sc);
+    for (auto& sh : eyes[e].shown) addOwned(sh);
   }
   // Earlier frames' writes to the internal images (history) before this frame reads/overwrites them.
   VkMemoryBarrier mem{};
@@ -187,6 +188,8 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
       {VK_NULL_HANDLE, io.historyOut && history8 ? io.historyOut : dummy8.view.get(),
        VK_IMAGE_LAYOUT_GENERAL},
       {},  // 9: the noise histogram
+      sampled(samplerNearest.get(), io.shownIn),
+      {VK_NULL_HANDLE, io.shownOut ? io.shownOut : dummy8.view.get(), VK_IMAGE_LAYOUT_GENERAL},
   }};
   const VkDescriptorBufferInfo bi{s.ubo.get(), offset, sizeof(PassUniforms)};
   const VkDescriptorBufferInfo noiseInfo{s.ubo.get(), s.noiseOffset, detail::kStorageBufferBytes};

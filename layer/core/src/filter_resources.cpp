@@ -146,8 +146,8 @@ bool Filter::Impl::init(std::string* error) {
       return fail(error, "vkCreateFence failed"), false;
     s.fence = Unique<VkFence>(device, fence);
     std::array<VkDescriptorPoolSize, 4> sizes{{
-        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 5 * kMaxDispatches},
-        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 3 * kMaxDispatches},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 6 * kMaxDispatches},
+        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4 * kMaxDispatches},
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kMaxDispatches},
         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kMaxDispatches},
     }};

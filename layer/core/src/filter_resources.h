@@ -21,13 +21,14 @@ constexpr uint32_t kQueries = 4;
 // The one descriptor set layout of every pass (common.glsl): 0-3 samplers (src0, src1, depth0,
 // depth1), 4-5 storage images (history out, output), 6 the uniforms, 7 a sampler (the app's
 // input of this eye, whose alpha every output carries), 8 the 8-bit history out, 9 the frame's
-// noise histogram (noise_estimate.h).
-constexpr uint32_t kBindings = 10;
+// noise histogram (noise_estimate.h), 10-11 the codes the 8-bit output showed last frame (a sampler)
+// and shows this frame (a storage image; Params::steadyOutputHold).
+constexpr uint32_t kBindings = 12;
 constexpr VkDescriptorType descriptorType(uint32_t binding) {
-  return binding < 4 || binding == 7   ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
-         : binding < 6 || binding == 8 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
-         : binding == 9                ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
-                                       : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+  return binding < 4 || binding == 7 || binding == 10   ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+         : binding < 6 || binding == 8 || binding == 11 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+         : binding == 9                                 ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+                                                        : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
 }
 
 struct OwnedImage {
@@ -60,7 +61,10 @@ struct Slot {
 struct EyeState {
   std::array<OwnedImage, 2> history;  // ping-pong, RGBA16F, linear light
   std::array<OwnedImage, 2> scratch;  // intermediates for outputs without storage: [kOut8], [kOut16]
+  std::array<OwnedImage, 2> shown;    // ping-pong with history, RGBA8: the 8-bit output's codes (hold)
   bool valid = false;
+  bool shownWritten = false;  // this frame's temporal pass writes shown[] (the stereo pass does not)
+  bool shownValid = false;    // it did last frame
   Pose prevPose;
   Fov prevFov;
   VkExtent2D size{};

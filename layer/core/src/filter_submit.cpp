@@ -137,11 +137,17 @@ bool Filter::Impl::prepareEyes(const StereoFrame& frame, FramePlan& plan, std::s
     EyeState& eye = eyes[e];
     const VkExtent2D size = frame.views[e].color.rect.extent;
     const VkFormat histFormat = historyFormat(params, frame.views[e].color.format);
-    if (!eye.history[0].image || !sameExtent(eye.size, size) || eye.history[0].format != histFormat) {
+    const bool held = detail::outputHeld(params);  // the 8-bit output's codes kept for the next frame
+    if (!eye.history[0].image || !sameExtent(eye.size, size) || eye.history[0].format != histFormat ||
+        held != static_cast<bool>(eye.shown[0].image)) {
       waitAll();
       const VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
       for (auto& h : eye.history) {
         if (!createImage(h, size, histFormat, usage, error)) return false;
+      }
+      for (auto& sh : eye.shown) {
+        sh = OwnedImage{};
+        if (held && !createImage(sh, size, VK_FORMAT_R8G8B8A8_UNORM, usage, error)) return false;
       }
       for (auto& sc : eye.scratch) sc = OwnedImage{};
       eye.size = size;
@@ -228,6 +234,7 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
       !params.steadyNoiseEstimate ? params.steadyNoiseVariance : noiseTracker.variance().value_or(0.0f);
   const PassContext c{
       frame, output, params, plan, eyes, historyIndex, static_cast<uint32_t>(frameCounter), noiseVariance};
+  for (uint32_t e = 0; e < plan.viewCount; ++e) eyes[e].shownWritten = detail::writesHeldOutput(c, e);
   s.noiseSampled = steady && plan.firstStage && params.steadyNoiseEstimate;
   s.gainProbed = false;
   bool ok = true;
@@ -309,6 +316,7 @@ void Filter::Impl::advanceEyes(const StereoFrame& frame, const FramePlan& plan) 
   for (uint32_t e = 0; e < plan.viewCount; ++e) {
     EyeState& eye = eyes[e];
     eye.valid = plan.temporal && plan.poseOk[e];
+    eye.shownValid = eye.shownWritten;
     if (plan.poseOk[e]) {
       eye.prevPose = frame.views[e].pose;
       eye.prevFov = frame.views[e].fov;

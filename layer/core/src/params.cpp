@@ -109,6 +109,9 @@ std::string validate(const Params& p, Params* sanitized) {
         "steadyNoiseVariance", &Params::steadyNoiseVariance);
   check(finite(p.steadyBlurBudgetPx2) && p.steadyBlurBudgetPx2 >= 0.0f, "steadyBlurBudgetPx2",
         &Params::steadyBlurBudgetPx2);
+  // Up to 1/2: the code shown is then always one of the two that bracket the estimate.
+  check(finite(p.steadyOutputHold) && p.steadyOutputHold >= 0.0f && p.steadyOutputHold <= 0.5f,
+        "steadyOutputHold", &Params::steadyOutputHold);
   check(finite(p.stereoDepthTolerance) && p.stereoDepthTolerance >= 0.0f, "stereoDepthTolerance",
         &Params::stereoDepthTolerance);
   check(inUnit(p.stereoBetaMin), "stereoBetaMin", &Params::stereoBetaMin);

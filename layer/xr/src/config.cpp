@@ -99,6 +99,7 @@ constexpr FloatKey kFloatKeys[] = {
     {"steady_blur_budget_px2", &core::Params::steadyBlurBudgetPx2, 0.0f, 100.0f, false},
     {"steady_footprint", &core::Params::steadyFootprint, 0.0f, 0.25f, false},
     {"steady_clip_gamma", &core::Params::steadyClipGamma, 0.0f, 1000.0f, true},
+    {"steady_output_hold", &core::Params::steadyOutputHold, 0.0f, 0.5f, false},
     {"steady_nearest_depth_m", &core::Params::steadyNearestDepthM, 0.01f, 1.0e6f, false},
     {"stereo_clip_gamma_after_steady", &core::Params::stereoClipGammaAfterSteady, 0.0f, 1000.0f, true},
 };

@@ -195,6 +195,19 @@ struct Params {
   // moves every sample the same way (a fade: near 1); structure that moves (a video's zoom) and noise
   // move them both ways (near 0), so a video's drifting gain relights nothing. false: round 16's rule.
   bool steadyGainRelightsAdmitted = true;
+  // Round 20 (the default): the 8-bit output keeps the code it showed last frame (at the texel the
+  // reprojection came from) while the filtered estimate lies within 1/2 + steadyOutputHold codes of it
+  // and moved by less than half a code since last frame: a Schmitt trigger on the rounding. An estimate
+  // that hovers at a code boundary (a smooth gradient or a photo under tremor: each frame's blend step
+  // moves it by a fraction of a code) no longer flips the output back and forth; a flip is undone only
+  // by a move of 2 x hold. A change of half a code a frame or more (a fade) is shown as rounding shows
+  // it (held, 0.8 of a code a frame went in steps of two codes every other frame). The output is at
+  // most 1/2 + hold codes from the estimate; the history keeps the unrounded estimate. The margin
+  // shrinks linearly with how far the picture moved at the pixel since last frame, to 0 at half a
+  // pixel (last frame's texel may then show a neighbour: a turn over a fine grating). 1/4 measured
+  // beside 1/2, which let a fade lag a whole code (a 90 Hz fade frame 1.17x none's). 0 = plain
+  // rounding. Only 8-bit outputs that steady's temporal pass writes (not those of the stereo pass).
+  float steadyOutputHold = 0.25f;
   // The noise variance per linear RGB channel to use when steadyNoiseEstimate is off (0 = a clean
   // render: steady as before round 13). The eval tells it the scene's own (noisevar=-1).
   float steadyNoiseVariance = 0.0f;
