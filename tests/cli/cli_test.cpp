@@ -311,6 +311,7 @@ TEST_F(Cli, EverythingItWritesTheLayerAccepts) {
                                                    {"steady_blur_budget_px2", "0.2"},
                                                    {"steady_footprint", "0.05"},
                                                    {"steady_clip_gamma", "1"},
+                                                   {"steady_output_hold", "0.5"},
                                                    {"steady_nearest_depth_m", "1"},
                                                    {"steady_confidence", "off"},
                                                    {"steady_clip_rejects", "no"},

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <utility>
 
@@ -130,23 +131,37 @@ TEST_F(CoreTest, SteadyOutputHoldOffRoundsTheEstimate) {
 
 namespace {
 
+// The default with the hold (1/4) and with plain rounding, each on its own UNORM rig: one frame through both.
+class HeldAndRounded {
+ public:
+  bool ok() const { return held_ && rounded_; }
+  std::pair<HostImage, HostImage> run(const Frame& frame) {
+    return {heldRig_.run(*held_, frame, 1)[0], roundedRig_.run(*rounded_, frame, 1)[0]};
+  }
+
+ private:
+  static Params withHold(float hold) {
+    Params p = *applyMethodName("steady");
+    p.steadyOutputHold = hold;
+    return p;
+  }
+  std::unique_ptr<Filter> held_ = makeFilter("steady", withHold(0.25f)),
+                          rounded_ = makeFilter("steady", withHold(0.0f));
+  Rig heldRig_{kW, kH, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM},
+      roundedRig_{kW, kH, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM};
+};
+
 // The flicker frames under a head that swings between two yaws `swingDeg` apart (0.19 px a degree at
 // this size and fov: 5 degrees move every pixel by about a pixel, past the half where the hold ends), through
 // a held filter and one with plain rounding: how many output channels differ over the run.
 std::optional<int> heldAgainstRounded(float swingDeg) {
-  Params held = *applyMethodName("steady"), rounded = held;
-  held.steadyOutputHold = 0.25f;
-  rounded.steadyOutputHold = 0.0f;
-  auto f = makeFilter("steady", held), g = makeFilter("steady", rounded);
-  if (!f || !g) return std::nullopt;
-  Rig rigF(kW, kH, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM);
-  Rig rigG(kW, kH, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM);
+  HeldAndRounded pair;
+  if (!pair.ok()) return std::nullopt;
   int differ = 0;
   for (int k = 0; k < kFrames; ++k) {
     const HostImage img = flickerFrame(k, false);
     const RefView view = eye(float(k % 2) * swingDeg, 0.0f);
-    const Frame frame{{img, img}, {view, view}};
-    const HostImage a = rigF.run(*f, frame, 1)[0], b = rigG.run(*g, frame, 1)[0];
+    const auto [a, b] = pair.run(Frame{{img, img}, {view, view}});
     for (size_t i = 0; i < a.px.size(); ++i)
       for (int ch = 0; ch < 3; ++ch) differ += a.px[i][ch] != b.px[i][ch] ? 1 : 0;
   }
@@ -170,13 +185,8 @@ namespace {
 // A ramp fading down by 0.8 % a frame (about 0.8 of a code at code 100), still head, UNORM: the largest
 // step of any output channel from one frame to the next, in codes, for the held output and the rounded.
 std::optional<std::pair<double, double>> fadeSteps() {
-  Params held = *applyMethodName("steady"), rounded = held;
-  held.steadyOutputHold = 0.25f;
-  rounded.steadyOutputHold = 0.0f;
-  auto f = makeFilter("steady", held), g = makeFilter("steady", rounded);
-  if (!f || !g) return std::nullopt;
-  Rig rigF(kW, kH, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM);
-  Rig rigG(kW, kH, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM);
+  HeldAndRounded pair;
+  if (!pair.ok()) return std::nullopt;
   double heldStep = 0, roundedStep = 0;
   HostImage lastF, lastG;
   for (int k = 0; k < kFrames; ++k) {
@@ -187,8 +197,7 @@ std::optional<std::pair<double, double>> fadeSteps() {
         const float v = gain * float(96 + int(x)) / 255.0f;
         img.at(x, y) = glm::vec4(v, v, v, 1.0f);
       }
-    const Frame frame{{img, img}, {eye(0, 0), eye(0, 0)}};
-    const HostImage a = rigF.run(*f, frame, 1)[0], b = rigG.run(*g, frame, 1)[0];
+    const auto [a, b] = pair.run(Frame{{img, img}, {eye(0, 0), eye(0, 0)}});
     if (k > 4)
       for (size_t i = 0; i < a.px.size(); ++i)
         for (int ch = 0; ch < 3; ++ch) {
