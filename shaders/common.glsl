@@ -334,20 +334,24 @@ void storeHistory(ivec2 p, vec3 c, float count, float countScale8) {
 // After fxaa the history is only the stereo pass's src0; its alpha goes unread.
 void writeHistory(ivec2 p, vec3 c) { storeHistory(p, c, 1.0, 1.0); }
 
-// o: linear RGBA; encoded for an sRGB target (alpha is linear in every format, never encoded).
-void storeOutput(ivec2 p, vec4 o) {
-  if (kEncodeSrgb) {
-    o.rgb = clamp(o.rgb, 0.0, 1.0);
-    o.rgb = vec3(linearToSrgb1(o.r), linearToSrgb1(o.g), linearToSrgb1(o.b));
-  }
+vec3 linearToSrgb(vec3 c) { return vec3(linearToSrgb1(c.r), linearToSrgb1(c.g), linearToSrgb1(c.b)); }
+
+// o as the target holds it (encoded, RGBA order): swapped for a BGRA target and stored.
+void storeOutputTexel(ivec2 p, vec4 o) {
   if (kSwapRB) o = o.bgra;
   imageStore(uOut, P.outOffset + p, o);
+}
+
+// o: linear RGBA; encoded for an sRGB target (alpha is linear in every format, never encoded).
+void storeOutput(ivec2 p, vec4 o) {
+  if (kEncodeSrgb) o.rgb = linearToSrgb(clamp(o.rgb, 0.0, 1.0));
+  storeOutputTexel(p, o);
 }
 
 // 8-bit output codes (unrounded) of linear c: the pass's own sRGB encoding, or UNORM's codes.
 vec3 outputCodes(vec3 c) {
   c = clamp(c, 0.0, 1.0);
-  return 255.0 * (kEncodeSrgb ? vec3(linearToSrgb1(c.r), linearToSrgb1(c.g), linearToSrgb1(c.b)) : c);
+  return 255.0 * (kEncodeSrgb ? linearToSrgb(c) : c);
 }
 
 // Round 20 (Params::steadyOutputHold): an 8-bit output with hysteresis. Each channel keeps the code
@@ -368,9 +372,7 @@ void storeHeldOutput(ivec2 p, vec3 c, float alpha, bool shownBefore, vec2 from, 
     shown = mix(shown, last, vec3(nearLast) * vec3(barelyMoved));
   }
   imageStore(uShownOut, p, vec4(shown * (1.0 / 255.0), 1.0));
-  vec4 o = vec4(shown * (1.0 / 255.0), alpha);
-  if (kSwapRB) o = o.bgra;
-  imageStore(uOut, P.outOffset + p, o);
+  storeOutputTexel(p, vec4(shown * (1.0 / 255.0), alpha));
 }
 
 void writeOutput(ivec2 p, vec3 c) { storeOutput(p, vec4(c, alphaOf(p))); }

@@ -89,7 +89,7 @@ std::optional<HoldRun> runFlicker(float hold, bool srgb) {
         else if (out != expected)
           ++r.ruleMismatches;
         r.heldChanges += out != last ? 1 : 0;
-        r.roundedChanges += std::round(code) != std::round(toCode(lastEstimate.px[i][ch], srgb)) ? 1 : 0;
+        r.roundedChanges += std::round(code) != std::round(before) ? 1 : 0;
       }
     lastShown = shown;
     lastEstimate = est;
