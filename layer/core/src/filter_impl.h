@@ -56,13 +56,15 @@ struct Filter::Impl {
   bool init(std::string* error);
   bool createImage(detail::OwnedImage& img, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
                    std::string* error);
+  bool createMappedBuffer(VkDeviceSize size, VkBufferUsageFlags usage, VkMemoryPropertyFlags preferred,
+                          detail::MappedBuffer& out, void** mapped, std::string* error);
   VkImageView view(VkImage image, VkFormat format, uint32_t layer, VkImageAspectFlags aspect,
                    std::string* error);
   void collect(detail::Slot& s);  // waits for the slot's frame, reads its timestamps and noise histogram
   void collectFinished();         // collect() of every slot whose frame has finished, without waiting
   void waitAll();
-  static uint32_t* noiseBins(const detail::Slot& s);  // the slot's histogram, host-mapped
-  void readGainProbe(const detail::Slot& s);          // the slot's gain record into gainProbe (collect)
+  static const uint32_t* noiseBins(const detail::Slot& s);  // the slot's records as the host reads them
+  void readGainProbe(const detail::Slot& s);                // the slot's gain record into gainProbe (collect)
 
   // submit and its steps, in order (filter_submit.cpp).
   bool submit(const StereoFrame& frame, const StereoOutput& output, std::string* error, VkSemaphore signal);
@@ -72,6 +74,8 @@ struct Filter::Impl {
   bool prepareEyes(const StereoFrame& frame, detail::FramePlan& plan, std::string* error);
   bool bindTargets(const StereoFrame& frame, const StereoOutput& output, detail::FramePlan& plan,
                    std::string* error);
+  void zeroRecords(detail::Slot& s);     // the noise and gain records, on the GPU
+  void copyRecordsOut(detail::Slot& s);  // into s.records for collect()
   bool recordPasses(detail::Slot& s, const StereoFrame& frame, const StereoOutput& output,
                     const detail::FramePlan& plan, std::string* error);
   bool submitRecording(detail::Slot& s, VkSemaphore signal, std::string* error);

@@ -40,16 +40,24 @@ struct OwnedImage {
   bool initialised = false;  // transitioned from UNDEFINED to GENERAL
 };
 
+// A buffer and its memory (the memory freed after the buffer is destroyed).
+struct MappedBuffer {
+  Unique<VkDeviceMemory> memory;
+  Unique<VkBuffer> buffer;
+  VkBuffer get() const { return buffer.get(); }
+};
+
 // What one frame in flight records into and reads its uniforms from.
 struct Slot {
   Unique<VkCommandPool> pool;
   VkCommandBuffer cmd = VK_NULL_HANDLE;
   Unique<VkFence> fence;
   Unique<VkDescriptorPool> descriptorPool;
-  Unique<VkBuffer> ubo;
-  Unique<VkDeviceMemory> uboMemory;
+  MappedBuffer ubo;
   void* mapped = nullptr;
   VkDeviceSize noiseOffset = 0;  // the noise histogram's place in ubo (after the uniforms)
+  MappedBuffer records;          // the noise and gain records copied out of ubo for the host
+  void* recordsMapped = nullptr;
   Unique<VkQueryPool> queries;
   bool pending = false;
   bool timed = false;

@@ -1,7 +1,6 @@
 // Filter::Impl::submit: check the frame, prepare each eye's history, bind the images, record the
 // passes, submit; each step its own function, in that order.
 #include <array>
-#include <cstring>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -226,6 +225,17 @@ bool Filter::Impl::bindTargets(const StereoFrame& frame, const StereoOutput& out
   return true;
 }
 
+namespace {
+void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
+                   VkPipelineStageFlags dstStage, VkAccessFlags dstAccess) {
+  VkMemoryBarrier m{};
+  m.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+  m.srcAccessMask = srcAccess;
+  m.dstAccessMask = dstAccess;
+  vkCmdPipelineBarrier(cmd, srcStage, dstStage, 0, 1, &m, 0, nullptr, 0, nullptr);
+}
+}  // namespace
+
 bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoOutput& output,
                                 const FramePlan& plan, std::string* error) {
   Recording rec{s};
@@ -237,29 +247,20 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
   for (uint32_t e = 0; e < plan.viewCount; ++e) eyes[e].shownWritten = detail::writesHeldOutput(c, e);
   s.noiseSampled = steady && plan.firstStage && params.steadyNoiseEstimate;
   s.gainProbed = false;
+  const bool gainProbed = steady && plan.firstStage && params.steadyGainCompensation;
+  if (s.noiseSampled || gainProbed) zeroRecords(s);
   bool ok = true;
-  if (steady && plan.firstStage && params.steadyGainCompensation) ok = recordGainProbes(rec, c, error);
+  if (gainProbed) ok = recordGainProbes(rec, c, error);
   if (ok && plan.firstStage) {
     for (uint32_t e = 0; e < plan.viewCount && ok; ++e) {
       const PassDispatch d = plan.temporal ? temporalPass(c, e) : plan.fxaa ? fxaaPass(c, e) : copyPass(c, e);
       ok = record(rec, d, error);
     }
   }
-  if (s.noiseSampled || s.gainProbed) {  // the records' atomic adds made visible to the host (collect)
-    VkMemoryBarrier m{};
-    m.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-    m.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-    m.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(s.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &m, 0,
-                         nullptr, 0, nullptr);
-  }
+  if (s.noiseSampled || s.gainProbed) copyRecordsOut(s);  // for collect(), in cached memory
   if (ok && plan.stereo && plan.firstStage) {  // the first stage's history writes before stereo reads them
-    VkMemoryBarrier m{};
-    m.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-    m.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-    m.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-    vkCmdPipelineBarrier(s.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0,
-                         1, &m, 0, nullptr, 0, nullptr);
+    memoryBarrier(s.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
   }
   timestamp(s, 1);
   if (ok && plan.stereo) {
@@ -269,22 +270,33 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
   return ok;
 }
 
+// The frame's noise and gain records zeroed on the GPU before the passes add to them.
+void Filter::Impl::zeroRecords(Slot& s) {
+  vkCmdFillBuffer(s.cmd, s.ubo.get(), s.noiseOffset, detail::kStorageBufferBytes, 0);
+  memoryBarrier(s.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
+// The records' atomic adds copied into host-cached memory and made visible to the host (collect).
+void Filter::Impl::copyRecordsOut(Slot& s) {
+  memoryBarrier(s.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+  const VkBufferCopy region{s.noiseOffset, 0, detail::kStorageBufferBytes};
+  vkCmdCopyBuffer(s.cmd, s.ubo.get(), s.records.get(), 1, &region);
+  memoryBarrier(s.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+}
+
 // Round 16: both eyes' gain probes into a zeroed record, made visible to the temporal passes that read it.
 bool Filter::Impl::recordGainProbes(Recording& rec, const PassContext& c, std::string* error) {
-  std::memset(reinterpret_cast<char*>(noiseBins(rec.slot)) + detail::kNoiseBufferBytes, 0,
-              detail::kGainBufferBytes);
   // Every frame, also one without a history (the probe then adds nothing): its pipeline is asked for with
   // the temporal pass's, so no later frame waits for it to compile (and passes through meanwhile).
   for (uint32_t e = 0; e < c.plan.viewCount; ++e) {
     if (!record(rec, gainProbePass(c, e), error)) return false;
   }
   rec.slot.gainProbed = true;
-  VkMemoryBarrier m{};
-  m.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-  m.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-  m.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-  vkCmdPipelineBarrier(rec.slot.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &m, 0, nullptr, 0, nullptr);
+  memoryBarrier(rec.slot.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
   return true;
 }
 
