@@ -197,7 +197,8 @@ struct Params {
   bool steadyGainRelightsAdmitted = true;
   // Round 20 (the default): the 8-bit output keeps the code it showed last frame (at the texel the
   // reprojection came from) while the filtered estimate lies within 1/2 + steadyOutputHold codes of it
-  // and moved by less than half a code since last frame: a Schmitt trigger on the rounding. An estimate
+  // and moved by less than half a code since last frame (round 21: in codes through the encoding's
+  // slope at the estimate, to first order): a Schmitt trigger on the rounding. An estimate
   // that hovers at a code boundary (a smooth gradient or a photo under tremor: each frame's blend step
   // moves it by a fraction of a code) no longer flips the output back and forth; a flip is undone only
   // by a move of 2 x hold. A change of half a code a frame or more (a fade) is shown as rounding shows
