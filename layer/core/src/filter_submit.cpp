@@ -247,10 +247,10 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
   for (uint32_t e = 0; e < plan.viewCount; ++e) eyes[e].shownWritten = detail::writesHeldOutput(c, e);
   s.noiseSampled = steady && plan.firstStage && params.steadyNoiseEstimate;
   s.gainProbed = false;
-  const bool gainProbed = steady && plan.firstStage && params.steadyGainCompensation;
-  if (s.noiseSampled || gainProbed) zeroRecords(s);
+  const bool probesGain = steady && plan.firstStage && params.steadyGainCompensation;
+  if (s.noiseSampled || probesGain) zeroRecords(s);
   bool ok = true;
-  if (gainProbed) ok = recordGainProbes(rec, c, error);
+  if (probesGain) ok = recordGainProbes(rec, c, error);
   if (ok && plan.firstStage) {
     for (uint32_t e = 0; e < plan.viewCount && ok; ++e) {
       const PassDispatch d = plan.temporal ? temporalPass(c, e) : plan.fxaa ? fxaaPass(c, e) : copyPass(c, e);
