@@ -14,12 +14,12 @@ const int kSteady = 4;
 // a history off by less than the input's own quantisation is no evidence of a wrong history.
 const float kQuantVar = (0.5 / 255.0) * (0.5 / 255.0);
 const float kIecSlopeScale2 = (2.4 / 1.055) * (2.4 / 1.055);  // the sRGB curve's 2.4 / 1.055, squared
-// Round 13 (Params::steadyNoiseEstimate, an option): the clip box widened by the render's noise
-// (kSteadyBoxSwitches bit 3) and the histogram that estimates it (bit 4; layer/core/src/noise_estimate.h,
-// the same constants).
+// Round 13 (Params::steadyNoiseEstimate): the clip box widened by the render's noise (kSteadyBoxSwitches
+// bit 3) and the histogram that estimates it (bit 4, round 14's residual bit 5;
+// layer/core/src/noise_estimate.h, the same constants). Since round 22 the probe (bit 7) takes the samples, not the pass: the residual's 5x5
+// and 16 history texels, in the pass, tripled its registers for every pixel (RADV's compiler: 60 -> 137
+// VGPRs, a quarter of the waves per SIMD), for the one pixel in 16 that samples.
 const bool kNoiseAware = kMode == 4 && (kSteadyBoxSwitches & 8) != 0;
-const bool kNoiseSampled = kMode == 4 && (kSteadyBoxSwitches & 16) != 0;
-const bool kNoiseResidualSampled = kMode == 4 && (kSteadyBoxSwitches & 32) != 0;  // round 14
 const int kNoiseBins = 64;
 const int kNoiseHistograms = 2;
 const int kResidualSums = 2;  // after the histograms (round 15)
@@ -28,10 +28,10 @@ const int kNoiseCopies = 8;
 const int kNoiseCopyStride = (kNoiseHistograms * kNoiseBins + kResidualSums + 15) / 16 * 16;
 uint noiseCopyBase() { return uint(kNoiseCopyStride) * (gl_WorkGroupID.x % uint(kNoiseCopies)); }
 // Round 16 (Params::steadyGainCompensation): the frame's gain, probed before the pass (bit 7: this
-// dispatch is the probe, probeGain) and read by it (bit 6: frameGain, once per invocation). The probe's
-// record follows the noise record's copies, on a 16-word line of its own (noise_estimate.h,
-// kGainRecordWords and on: 4 words). Round 17 (Params::steadyGainRelightsAdmitted, bit 8): also where
-// the box admits the history, in a frame whose change the gain explains.
+// dispatch is the probe, probeFrame; bit 6: with the gain's sums) and read by it (bit 6: frameGain, once
+// per invocation). The probe's record follows the noise record's copies, on a 16-word line of its own
+// (noise_estimate.h, kGainRecordWords and on: 4 words). Round 17 (Params::steadyGainRelightsAdmitted,
+// bit 8): also where the box admits the history, in a frame whose change the gain explains.
 const bool kGainCompensated = kMode == 4 && (kSteadyBoxSwitches & 64) != 0;
 const uint kGainBase = uint(kNoiseCopies * kNoiseCopyStride);
 const float kLumaSumScale = 1024.0;
@@ -129,35 +129,45 @@ void recentredClipMoments(ivec2 o, out vec3 mean, out vec3 variance) {
   variance = max(m2 - m1 * m1, vec3(0.0));
 }
 
-// Round 13: one pixel in 16 (inside the image, off its edges: the 3x3 is all real) adds the luma's
-// x^2 y^2 contrast of its 3x3 (weights (1, -2, 1) x (1, -2, 1), norm 6), scaled to the noise's
-// standard deviation, to the frame's histogram (bin 0 below 2^kNoiseLowestLog2, then quarter
-// octaves). The host takes its median (noise_estimate.h).
-void addNoiseSample(float absDetail, int histogram) {
-  if (!(absDetail >= 0.0)) return;  // NaN
-  const float octaves = log2(max(absDetail, 1e-30)) - kNoiseLowestLog2;
-  const int bin = octaves < 0.0 ? 0 : min(int(kNoiseBinsPerOctave * octaves) + 1, kNoiseBins - 1);
-  atomicAdd(noiseBins[noiseCopyBase() + histogram * kNoiseBins + bin], 1u);
-}
-// The sampled pixels: in a 4x4 block the one at (2, 2), known when the block's calls are written out.
-bool noiseSamplePixel(ivec2 p, ivec2 o) {
-  return kBlocked ? all(equal(o, ivec2(2))) : all(equal(p & 3, ivec2(2)));
-}
-// src0 at block pixel o + (x, y), |x|, |y| <= 2: the block holds +-1 around a 1-pixel block only.
-vec3 src0Near(ivec2 p, ivec2 o, int x, int y) {
-  return kBlocked ? blockAt(o, x, y) : fetchSrc0(clamp(p + ivec2(x, y), ivec2(0), P.src0Size - 1));
-}
 // The history's texel t (linear colour), either encoding.
 vec3 historyTexel(ivec2 t) {
   if (kHistoryEncoding != 0) return history8Texel(t).rgb;
   return texelFetch(uSrc1, P.src1Offset + clamp(t, ivec2(0), P.src1Size - 1), 0).rgb;
+}
+// Steady's estimate of the pixel from its 3x3 through the footprint [k, 1 - 2k, k]^2 (README item 4), in
+// linear light or on square roots (Params::steadyFootprintEncoded): the centre, the sum of the edge
+// neighbours and the 3x3's sum, and the same two sums of square roots with the corners'. The pass and the
+// probe both call it, with their sums in the same order, so that the probe's residual is the pass's.
+vec3 footprintEstimate(vec3 centre, vec3 edges, vec3 sum3x3, vec3 sqrtEdges, vec3 sqrtCorners, float k,
+                       bool encoded) {
+  const vec3 linear = (1.0 - 2.0 * k) * (1.0 - 2.0 * k) * centre + k * (1.0 - 2.0 * k) * edges +
+                      k * k * (sum3x3 - centre - edges);
+  const vec3 g =
+      (1.0 - 2.0 * k) * (1.0 - 2.0 * k) * sqrt(centre) + k * (1.0 - 2.0 * k) * sqrtEdges + k * k * sqrtCorners;
+  return encoded ? g * g : linear;
+}
+// The probe's 3x3 of src0 around p (inside the image): steady's footprint estimate of the pixel, and
+// round 13's detail, the luma's x^2 y^2 contrast (weights (1, -2, 1) x (1, -2, 1), norm 6) scaled to the
+// noise's standard deviation. Sums in the pass's order (windowSums: by columns).
+vec3 probeFootprint(ivec2 p, out float detail) {
+  vec3 c[9];
+  [[unroll]] for (int y = -1; y <= 1; ++y)
+    [[unroll]] for (int x = -1; x <= 1; ++x) c[(y + 1) * 3 + x + 1] = fetchSrc0(p + ivec2(x, y));
+  const vec3 corners = c[0] + c[2] + c[6] + c[8];
+  detail = abs(toYCoCg(corners - 2.0 * (c[1] + c[3] + c[5] + c[7]) + 4.0 * c[4]).x) * (1.0 / 6.0);
+  const vec3 edges = c[3] + c[5] + c[1] + c[7];  // (-1, 0), (1, 0), (0, -1), (0, 1)
+  const vec3 sum3x3 = (c[0] + c[3] + c[6]) + (c[1] + c[4] + c[7]) + (c[2] + c[5] + c[8]);
+  const vec3 sqrtEdges = sqrt(c[3]) + sqrt(c[5]) + sqrt(c[1]) + sqrt(c[7]);
+  const vec3 sqrtCorners = sqrt(c[0]) + sqrt(c[2]) + sqrt(c[6]) + sqrt(c[8]);
+  return footprintEstimate(c[4], edges, sum3x3, sqrtEdges, sqrtCorners, P.steadyFootprint,
+                           P.steadyFootprintEncoded > 0.5);
 }
 // Round 14: the same contrast of the residual between this frame's footprint estimate (steady's fc,
 // unjittered) and the history reprojected to q, over the 3x3 around the pixel: what changed since the
 // last frame at the finest scale (noise, every frame) and not the picture's own fine detail (aliasing
 // under a still head, which the history holds too). Its own histogram; the host takes the smaller of
 // the two estimates (noise_estimate.h).
-float residualDetail(ivec2 p, ivec2 o, vec2 q) {
+float residualDetail(ivec2 p, vec2 q) {
   const float k = P.steadyFootprint;
   const bool encoded = P.steadyFootprintEncoded > 0.5;
   const vec3 w = vec3(k, 1.0 - 2.0 * k, k);
@@ -166,7 +176,7 @@ float residualDetail(ivec2 p, ivec2 o, vec2 q) {
     [[unroll]] for (int x = -1; x <= 1; ++x) {
       vec3 s = vec3(0.0);
       [[unroll]] for (int i = -1; i <= 1; ++i) {
-        const vec3 c = src0Near(p, o, x + i, y);
+        const vec3 c = fetchSrc0(p + ivec2(x + i, y));  // clamped into the image inside
         s += w[i + 1] * (encoded ? sqrt(c) : c);
       }
       rows[(y + 2) * 3 + x + 1] = s;
@@ -195,24 +205,8 @@ float residualDetail(ivec2 p, ivec2 o, vec2 q) {
 // cannot overflow). Noise's residual averages out over a frame; a picture that changes as a whole (a
 // fade) leaves a mean, and the host then drops the noise allowance (noise_estimate.h, residualMeanSide).
 const float kResidualSumScale = 2048.0;
-void addResidualSums(float residual) {
-  if (!(abs(residual) <= 1e30)) return;  // NaN, inf
-  const int scaled = int(round(clamp(residual, -0.5, 0.5) * kResidualSumScale));
-  const uint sums = noiseCopyBase() + kNoiseHistograms * kNoiseBins;
-  atomicAdd(noiseBins[sums], uint(scaled));  // two's complement: a signed sum
-  atomicAdd(noiseBins[sums + 1], uint(abs(scaled)));
-}
-void recordNoiseSamples(ivec2 p, ivec2 o, bool historyConfirmed, vec2 q, float centreResidual) {
-  if (!noiseSamplePixel(p, o) || any(greaterThanEqual(p + 1, P.src0Size))) return;
-  const vec3 corners = blockAt(o, -1, -1) + blockAt(o, 1, -1) + blockAt(o, -1, 1) + blockAt(o, 1, 1);
-  const vec3 edges = blockAt(o, 0, -1) + blockAt(o, -1, 0) + blockAt(o, 1, 0) + blockAt(o, 0, 1);
-  addNoiseSample(abs(toYCoCg(corners - 2.0 * edges + 4.0 * blockAt(o, 0, 0)).x) * (1.0 / 6.0), 0);
-  // Jittered input: the residual would hold the jitter's own sample differences; no estimate then.
-  const bool jittered = kJitter && any(notEqual(P.jitterPx, vec2(0.0)));
-  if (kNoiseResidualSampled && historyConfirmed && !jittered && all(lessThan(p + 2, P.src0Size))) {
-    addNoiseSample(residualDetail(p, o, q), 1);
-    addResidualSums(centreResidual);
-  }
+int residualSumUnits(float residual) {
+  return abs(residual) <= 1e30 ? int(round(clamp(residual, -0.5, 0.5) * kResidualSumScale)) : 0;  // NaN, inf: 0
 }
 
 // The box's floor (Params::steadyClipQuantSrgb, processPixel) as a variance over kQuantVar at luma `level`:
@@ -223,39 +217,73 @@ float floorSlope2(float level) {
   return (kSteadyBoxSwitches & 2) != 0 ? srgbSlope2 : 1.0;
 }
 
-// Round 16: the probe, one sample per block (round 17: blocks of P.gainProbeBlockPx, 4 px up to 2^14
-// blocks an eye, filter_passes.h), at the block's centre, both eyes into one record: the luma of this
-// frame and of the history reprojected through the previous pose, summed (in [0, 1], units 2^-10: 2^21
-// samples cannot overflow), the magnitude of their difference (as addResidualSums) and the samples. An
-// invocation sums kGainProbeBlocks^2 blocks before it adds to the record's one copy (integer sums: the
-// same in any order).
-const int kGainProbeBlocks = 4;  // per axis (filter_passes.h, kGainProbeBlocksPerInvocation)
-void probeGain(ivec2 region) {
-  if (P.historyValid == 0) return;
-  uint current = 0u, history = 0u, magnitude = 0u, samples = 0u;
-  for (int by = 0; by < kGainProbeBlocks; ++by) {
-    for (int bx = 0; bx < kGainProbeBlocks; ++bx) {
-      const ivec2 p = region + P.gainProbeBlockPx * ivec2(bx, by) + P.gainProbeBlockPx / 2;
-      if (any(greaterThanEqual(p, P.src0Size))) continue;
-      float invZ = P.fallbackInvZ;
-      if ((kDepthBits & 1) != 0) invZ = invZFromDepth(texelFetch(uDepth0, P.depth0Offset + p, 0).r, P.depth0);
-      vec2 q;
-      float iz;
-      if (!reproject(P.reproj[0], vec2(p) + 0.5, invZ, q, iz)) continue;
+// Round 13: one sample of the frame's contrast histogram (bin 0 below 2^kNoiseLowestLog2, then quarter
+// octaves); the host takes its median (noise_estimate.h).
+void addNoiseSample(float absDetail, int histogram) {
+  if (!(absDetail >= 0.0)) return;  // NaN
+  const float octaves = log2(max(absDetail, 1e-30)) - kNoiseLowestLog2;
+  const int bin = octaves < 0.0 ? 0 : min(int(kNoiseBinsPerOctave * octaves) + 1, kNoiseBins - 1);
+  atomicAdd(noiseBins[noiseCopyBase() + histogram * kNoiseBins + bin], 1u);
+}
+// The frame's probe: one invocation per block of P.probeBlockPx (4 px up to 2^14 blocks an eye, round 17;
+// filter_passes.h), sampled at the block's centre, both eyes.
+// - Rounds 13-15 (bits 4, 5): the noise records, into the copy of the invocation's workgroup: the frame's
+//   contrast (off the image's edge: the 3x3 is all real); where the history is reprojected, the
+//   residual's contrast (2 px off the edge: its 5x5) and its luma at the pixel (residualSumUnits).
+//   Jittered input: the residual would hold the jitter's own sample differences; none then.
+// - Round 16 (bit 6): the gain's record: the luma of this frame and of the history reprojected through the
+//   previous pose, summed (in [0, 1], units 2^-10: 2^21 samples cannot overflow), the magnitude of their
+//   difference (units as the residual's) and the samples.
+// The sums are added up in the workgroup first and added to the records once per workgroup (integer
+// sums: the same in any order; few adds to the same words, which a GPU's atomics serialise).
+shared uint sProbeSums[6];  // the gain's four sums, then the residual's two
+const int kProbeSumsGain = 0, kProbeSumsResidual = 4;
+void probeFrame(ivec2 p) {
+  // The switches spelled out (bits 4, 5, 6), as in main: glslang defines a spec constant's expression with
+  // && where it is first used, and a later use in a block that does not follow it is invalid SPIR-V.
+  const bool noiseSampled = (kSteadyBoxSwitches & 16) != 0, residualSampled = (kSteadyBoxSwitches & 32) != 0;
+  const bool probesGain = (kSteadyBoxSwitches & 64) != 0;
+  const bool jittered = kJitter && any(notEqual(P.jitterPx, vec2(0.0)));
+  const bool leader = gl_LocalInvocationIndex == 0u;
+  if (leader)
+    for (int i = 0; i < 6; ++i) sProbeSums[i] = 0u;
+  barrier();
+  if (all(lessThan(p, P.src0Size))) {
+    float frameDetail;
+    const vec3 estimate = probeFootprint(p, frameDetail);
+    if (noiseSampled && all(lessThan(p + 1, P.src0Size))) addNoiseSample(frameDetail, 0);
+    float invZ = P.fallbackInvZ;
+    if ((kDepthBits & 1) != 0) invZ = invZFromDepth(texelFetch(uDepth0, P.depth0Offset + p, 0).r, P.depth0);
+    vec2 q;
+    float iz;
+    if (P.historyValid != 0 && reproject(P.reproj[0], vec2(p) + 0.5, invZ, q, iz)) {
+      const vec3 reprojected = sampleHistory(q);
+      if (residualSampled && !jittered && all(lessThan(p + 2, P.src0Size))) {
+        addNoiseSample(residualDetail(p, q), 1);
+        const int units = residualSumUnits(toYCoCg(estimate - reprojected).x);
+        atomicAdd(sProbeSums[kProbeSumsResidual], uint(units));  // two's complement: a signed sum
+        atomicAdd(sProbeSums[kProbeSumsResidual + 1], uint(abs(units)));
+      }
       const float currentLuma = clamp(toYCoCg(fetchSrc0(p)).x, 0.0, 1.0);
-      const float historyLuma = clamp(toYCoCg(sampleHistory(q)).x, 0.0, 1.0);
-      if (isnan(currentLuma) || isnan(historyLuma)) continue;
-      current += uint(round(currentLuma * kLumaSumScale));
-      history += uint(round(historyLuma * kLumaSumScale));
-      magnitude += uint(round(min(abs(currentLuma - historyLuma), 0.5) * kResidualSumScale));
-      ++samples;
+      const float historyLuma = clamp(toYCoCg(reprojected).x, 0.0, 1.0);
+      if (probesGain && !isnan(currentLuma) && !isnan(historyLuma)) {
+        atomicAdd(sProbeSums[kProbeSumsGain], uint(round(currentLuma * kLumaSumScale)));
+        atomicAdd(sProbeSums[kProbeSumsGain + 1], uint(round(historyLuma * kLumaSumScale)));
+        atomicAdd(sProbeSums[kProbeSumsGain + 2],
+                  uint(round(min(abs(currentLuma - historyLuma), 0.5) * kResidualSumScale)));
+        atomicAdd(sProbeSums[kProbeSumsGain + 3], 1u);
+      }
     }
   }
-  if (samples == 0u) return;
-  atomicAdd(noiseBins[kGainBase], current);
-  atomicAdd(noiseBins[kGainBase + 1], history);
-  atomicAdd(noiseBins[kGainBase + 2], magnitude);
-  atomicAdd(noiseBins[kGainBase + 3], samples);
+  barrier();
+  if (!leader) return;
+  const uint residualSums = noiseCopyBase() + kNoiseHistograms * kNoiseBins;
+  if (residualSampled && sProbeSums[kProbeSumsResidual + 1] != 0u) {
+    atomicAdd(noiseBins[residualSums], sProbeSums[kProbeSumsResidual]);
+    atomicAdd(noiseBins[residualSums + 1], sProbeSums[kProbeSumsResidual + 1]);
+  }
+  if (probesGain && sProbeSums[kProbeSumsGain + 3] != 0u)
+    for (int i = 0; i < 4; ++i) atomicAdd(noiseBins[kGainBase + i], sProbeSums[kProbeSumsGain + i]);
 }
 // The frame's gain from the probe's record: this frame's luma over the history's where the mean of
 // their difference lies 4 standard errors or more from 0 (round 15's test, noise_estimate.h,
@@ -320,14 +348,16 @@ void processPixel(ivec2 p, ivec2 o) {
       // of the pixel's box footprint; 0 = off).
       const float k = mode == kHybrid ? 1.0 / 16.0 : P.steadyFootprint;
       vec3 edges = blockAt(o, -1, 0) + blockAt(o, 1, 0) + blockAt(o, 0, -1) + blockAt(o, 0, 1);
-      fc = (1.0 - 2.0 * k) * (1.0 - 2.0 * k) * cur + k * (1.0 - 2.0 * k) * edges + k * k * (s1 - cur - edges);
+      vec3 sqrtEdges = vec3(0.0), sqrtCorners = vec3(0.0);
       if (mode == kSteady) {  // the same filter on square roots (Params::steadyFootprintEncoded)
-        vec3 e4 = sqrt(blockAt(o, -1, 0)) + sqrt(blockAt(o, 1, 0)) +
-                  sqrt(blockAt(o, 0, -1)) + sqrt(blockAt(o, 0, 1));
-        vec3 c4 = sqrt(blockAt(o, -1, -1)) + sqrt(blockAt(o, 1, -1)) +
-                  sqrt(blockAt(o, -1, 1)) + sqrt(blockAt(o, 1, 1));
-        vec3 g = (1.0 - 2.0 * k) * (1.0 - 2.0 * k) * sqrt(cur) + k * (1.0 - 2.0 * k) * e4 + k * k * c4;
-        fc = P.steadyFootprintEncoded > 0.5 ? g * g : fc;
+        sqrtEdges = sqrt(blockAt(o, -1, 0)) + sqrt(blockAt(o, 1, 0)) +
+                    sqrt(blockAt(o, 0, -1)) + sqrt(blockAt(o, 0, 1));
+        sqrtCorners = sqrt(blockAt(o, -1, -1)) + sqrt(blockAt(o, 1, -1)) +
+                      sqrt(blockAt(o, -1, 1)) + sqrt(blockAt(o, 1, 1));
+      }
+      fc = footprintEstimate(cur, edges, s1, sqrtEdges, sqrtCorners, k,
+                             mode == kSteady && P.steadyFootprintEncoded > 0.5);
+      if (mode == kSteady) {
         // A jitter of exactly 0 is an unjittered frame (the layer's Halton offsets are never both
         // 0; it passes 0 for a view whose fov the app did not echo): the footprint above.
         if (kJitter && any(notEqual(P.jitterPx, vec2(0.0)))) {
@@ -362,7 +392,6 @@ void processPixel(ivec2 p, ivec2 o) {
     shownHold = P.steadyOutputHold * max(1.0 - 2.0 * max(moved.x, moved.y), 0.0);
     vec4 hs = sampleHistoryRgba(q);  // q is clamped into the image inside
     estimateBefore = hs.rgb;
-    if (kNoiseSampled && inRange) recordNoiseSamples(p, o, confirmed, q, toYCoCg(fc - hs.rgb).x);
     // Params::steadyClipCurvatureCentredGated (an option, off): the sign of the history's alpha is the
     // side of the current estimate its luma lay on last frame (negative: above). A history lagging
     // content that changes in place stays on one side; one averaging aliased detail flips at random.
@@ -519,7 +548,7 @@ void main() {
   ivec2 base = ivec2(gl_GlobalInvocationID.xy) * ivec2(kBlockW, kBlockH);
   // The switches spelled out: glslang leaves a spec constant's expression undefined when main is its first use.
   if (kMode == 4 && (kSteadyBoxSwitches & 128) != 0) {  // the probe: by regions of 4x4 blocks on every device
-    probeGain(ivec2(gl_GlobalInvocationID.xy) * (kGainProbeBlocks * P.gainProbeBlockPx));
+    probeFrame(ivec2(gl_GlobalInvocationID.xy) * P.probeBlockPx + P.probeBlockPx / 2);
     return;
   }
   if (kMode == 4 && (kSteadyBoxSwitches & 64) != 0) gFrameGain = frameGain();

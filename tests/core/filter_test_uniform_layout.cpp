@@ -127,7 +127,7 @@ const std::vector<Member> kPassUniforms = {
     HOST_MEMBER(PassUniforms, steadyClipCurvatureKappa),
     HOST_MEMBER(PassUniforms, steadyClipCurvatureInner),
     HOST_MEMBER(PassUniforms, steadyNoiseVariance),
-    HOST_MEMBER(PassUniforms, gainProbeBlockPx),
+    HOST_MEMBER(PassUniforms, probeBlockPx),
     HOST_MEMBER(PassUniforms, steadyOutputHold),
     HOST_MEMBER(PassUniforms, shownValid),
 };

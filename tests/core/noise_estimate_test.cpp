@@ -273,23 +273,23 @@ TEST(NoiseEstimate, CopiesAddUpToOneRecord) {
 // exactly the budget; 1024x1024 would hold 65536 with 4 px and 16384 with 8; 2048x2048 holds 16384 with
 // 16; 1832x1920 (a headset's eye) 114 x 120 = 13680 with 16 and 229 x 240 with 8.
 TEST(GainProbe, BlocksKeepAnEyeWithinItsSampleBudget) {
-  EXPECT_EQ(gainProbeBlockPx(128, 128), 4);
-  EXPECT_EQ(gainProbeBlockPx(512, 512), 4);
-  EXPECT_EQ(gainProbeBlockPx(1024, 1024), 8);
-  EXPECT_EQ(gainProbeBlockPx(2048, 2048), 16);
-  EXPECT_EQ(gainProbeBlockPx(1832, 1920), 16);
-  EXPECT_EQ(gainProbeSamples(1832, 1920, 16), 114 * 120);
+  EXPECT_EQ(probeBlockPx(128, 128), 4);
+  EXPECT_EQ(probeBlockPx(512, 512), 4);
+  EXPECT_EQ(probeBlockPx(1024, 1024), 8);
+  EXPECT_EQ(probeBlockPx(2048, 2048), 16);
+  EXPECT_EQ(probeBlockPx(1832, 1920), 16);
+  EXPECT_EQ(probeSamples(1832, 1920, 16), 114 * 120);
   // A partial block counts where its centre lies inside the eye: 1045 = 130 * 8 + 5 holds 131.
-  EXPECT_EQ(gainProbeSamples(1045, 8, 8), 131);
-  EXPECT_EQ(gainProbeSamples(1044, 8, 8), 130);
-  EXPECT_EQ(gainProbeSamples(1, 1, 4), 0);
+  EXPECT_EQ(probeSamples(1045, 8, 8), 131);
+  EXPECT_EQ(probeSamples(1044, 8, 8), 130);
+  EXPECT_EQ(probeSamples(1, 1, 4), 0);
   // Within the budget and no coarser than it needs, over many sizes.
   for (int32_t w = 1; w <= 5000; w += 37) {
     for (int32_t h = 1; h <= 5000; h += 41) {
-      const int32_t b = gainProbeBlockPx(w, h);
-      ASSERT_LE(gainProbeSamples(w, h, b), 16384) << w << "x" << h;
+      const int32_t b = probeBlockPx(w, h);
+      ASSERT_LE(probeSamples(w, h, b), 16384) << w << "x" << h;
       if (b > 4) {
-        ASSERT_GT(gainProbeSamples(w, h, b / 2), 16384) << w << "x" << h;
+        ASSERT_GT(probeSamples(w, h, b / 2), 16384) << w << "x" << h;
       }
     }
   }

@@ -36,6 +36,7 @@ struct Options {
   int iterations = 20;
   int warmup = 3;
   std::string csv;
+  bool pipelines = false;                     // print each method's pipelines (for steadyxr-shader-stats)
   VkFormat format = VK_FORMAT_R8G8B8A8_SRGB;  // of the app's input and output images
   InvocationBlock block = InvocationBlock::Auto;
 };
@@ -43,7 +44,7 @@ struct Options {
 void usage() {
   std::cout << "usage: steadyxr-bench [--sizes WxH[,WxH...]] [--methods m1,m2,...] [--iterations N]\n"
                "                      [--warmup N] [--format srgb8|unorm8|rgba16f] [--csv FILE]\n"
-               "                      [--block auto|1x1|4x4]\n"
+               "                      [--block auto|1x1|4x4] [--pipelines]\n"
                "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to (measured\n"
                "first and last at each size; the faster of the two is used). A method may end in\n"
                "@history=16 or @history=8 (the history's bits per channel, Params::historyFormat).\n"
@@ -60,7 +61,9 @@ void usage() {
                "@noisy, @noisy=0: the render's noise estimated and the box widened by it, or not\n"
                "(steadyNoiseEstimate; the default since round 15); @gain=0: without the frame's gain\n"
                "probe and its compensation (steadyGainCompensation; the default since round 16);\n"
-               "@hold=0: the 8-bit output rounded, not held (steadyOutputHold; held since round 20).\n";
+               "@hold=0: the 8-bit output rounded, not held (steadyOutputHold; held since round 20).\n"
+               "--pipelines: after each method, the pipelines it used as PASS:STORAGE:SPECIALISATION,\n"
+               "the arguments of steadyxr-shader-stats (registers and instructions on a GPU's compiler).\n";
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -110,6 +113,8 @@ bool parse(int argc, char** argv, Options* o) {
         return false;
     } else if (a == "--csv") {
       o->csv = next();
+    } else if (a == "--pipelines") {
+      o->pipelines = true;
     } else {
       return false;
     }
@@ -301,6 +306,16 @@ std::optional<Params> methodParams(const std::string& spec) {
   return params;
 }
 
+// PASS:STORAGE:k0,k1,... per pipeline: steadyxr-shader-stats takes these as they are.
+void printPipelines(const std::string& method, const std::vector<PipelineDescription>& pipelines) {
+  for (const PipelineDescription& p : pipelines) {
+    std::string spec;
+    for (const int32_t v : p.specialisation) spec += (spec.empty() ? "" : ",") + std::to_string(v);
+    std::printf("pipeline of %s: %s:%s:%s\n", method.c_str(), p.pass.c_str(), p.storage.c_str(),
+                spec.c_str());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -394,6 +409,7 @@ int main(int argc, char** argv) {
         filter->forgetImage(in[e]->image());
         filter->forgetImage(out[e]->image());
       }
+      if (opt.pipelines) printPipelines(m, filter->pipelines());
       measured.push_back({median(gpu), minimum(gpu), median(cpu), median(host), median(hostCpu), model});
     }
     const Measured& floorFirst = measured.front();

@@ -61,6 +61,10 @@ std::optional<GainProbeSums> Filter::lastGainProbe() const {
   return impl_->gainProbe;
 }
 
+std::vector<PipelineDescription> Filter::pipelines() const {
+  return impl_->pipelines.made();
+}
+
 void Filter::forgetImage(VkImage image) {
   bool any = false;
   for (const auto& [key, v] : impl_->views) any = any || std::get<0>(key) == image;

@@ -101,7 +101,7 @@ struct Filter::Impl {
   // because its pipeline is still compiling.
   bool record(Recording& rec, const detail::PassDispatch& d, std::string* error);
   // Steady's gain probes of both eyes (Params::steadyGainCompensation), before its temporal passes.
-  bool recordGainProbes(Recording& rec, const detail::PassContext& c, std::string* error);
+  bool recordProbes(Recording& rec, const detail::PassContext& c, bool probesGain, std::string* error);
 };
 
 }  // namespace steadyxr::core

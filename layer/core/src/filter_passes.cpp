@@ -165,27 +165,29 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
   return d;
 }
 
-int64_t gainProbeSamples(int32_t width, int32_t height, int32_t blockPx) {
+int64_t probeSamples(int32_t width, int32_t height, int32_t blockPx) {
   const auto along = [blockPx](int32_t n) {
     return std::max<int64_t>(0, (int64_t(n) + blockPx / 2 - 1) / blockPx);
   };
   return along(width) * along(height);
 }
 
-int32_t gainProbeBlockPx(int32_t width, int32_t height) {
-  int32_t block = kGainProbeSmallestBlockPx;
-  while (gainProbeSamples(width, height, block) > kGainProbeSamplesPerEye) block *= 2;
+int32_t probeBlockPx(int32_t width, int32_t height) {
+  int32_t block = kProbeSmallestBlockPx;
+  while (probeSamples(width, height, block) > kProbeSamplesPerEye) block *= 2;
   return block;
 }
 
-PassDispatch gainProbePass(const PassContext& c, uint32_t e) {
+PassDispatch probePass(const PassContext& c, uint32_t e) {
   PassDispatch d = temporalPass(c, e);
-  d.uniforms.gainProbeBlockPx = gainProbeBlockPx(d.uniforms.src0Size.x, d.uniforms.src0Size.y);
-  d.switches.gainProbe = true;
+  d.uniforms.probeBlockPx = probeBlockPx(d.uniforms.src0Size.x, d.uniforms.src0Size.y);
+  d.switches.probe = true;
   d.switches.writeOutput = false;
   d.switches.writeHistory = false;
   d.io.output = VK_NULL_HANDLE;
   d.io.historyOut = VK_NULL_HANDLE;
+  d.io.shownIn = Binding{};
+  d.io.shownOut = VK_NULL_HANDLE;
   return d;
 }
 
@@ -262,16 +264,16 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
           ? (oneSidedBox ? 1 : 0) | (params.steadyClipQuantSrgb && sw.inputSrgb ? 2 : 0) |
                 // Round 10's gate: its bit lives in the sign of the RGBA16F history's alpha.
                 (oneSidedBox && params.steadyClipCurvatureCentredGated && sw.historyEncoding == 0 ? 4 : 0) |
-                // Round 13: the box widened by the noise, and the histogram that estimates it.
+                // Round 13: the box widened by the noise (the pass), and the histogram that estimates it
+                // (round 14: with the residual's, where the host reads it), sampled by the probe since
+                // round 22.
                 (params.steadyNoiseEstimate || params.steadyNoiseVariance > 0.0f ? 8 : 0) |
-                (params.steadyNoiseEstimate ? 16 : 0) |
-                // Round 14: the residual's histogram, only where the host reads it.
-                (params.steadyNoiseEstimate && params.steadyNoiseResidualOverTime ? 32 : 0) |
-                // Round 16: the frame's gain, read by the pass (64) or probed (128); round 17: the pass
-                // relights a history the box admits too, where the gain explains the change (256).
-                (params.steadyGainCompensation
-                     ? (sw.gainProbe ? 128 : (64 | (params.steadyGainRelightsAdmitted ? 256 : 0)))
-                     : 0) |
+                (sw.probe && params.steadyNoiseEstimate ? 16 : 0) |
+                (sw.probe && params.steadyNoiseEstimate && params.steadyNoiseResidualOverTime ? 32 : 0) |
+                // Round 16: the frame's gain, probed (128 with 64) and read by the pass (64); round 17: the
+                // pass relights a history the box admits too, where the gain explains the change (256).
+                (sw.probe ? 128 : 0) | (params.steadyGainCompensation ? 64 : 0) |
+                (params.steadyGainCompensation && !sw.probe && params.steadyGainRelightsAdmitted ? 256 : 0) |
                 // Round 20: the 8-bit output held (storeHeldOutput), where the pass binds the codes.
                 (d.io.shownOut != VK_NULL_HANDLE ? 512 : 0)
           : 0};

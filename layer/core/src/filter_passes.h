@@ -30,7 +30,8 @@ struct PassSwitches {
   bool inputSrgb = false;       // the app's image is sRGB: the passes read it decoded to linear light
   int32_t depthBits = 0;        // bit0: this eye's depth, bit1: the other eye's
   int32_t historyEncoding = 0;  // kHistoryEncoding: 0 RGBA16F, 1 RGBA8 dithered, 2 RGBA8 nearest
-  bool gainProbe = false;       // steady: the frame's gain probe (round 16), no output, no history
+  bool probe =
+      false;  // steady: the frame's probe (gain, round 16; noise samples, round 22), no output, no history
 };
 
 // Params::steadyOutputHold in force: steady's temporal pass keeps the codes of the 8-bit output it writes.
@@ -110,19 +111,18 @@ PassDispatch fxaaPass(const PassContext& c, uint32_t e);
 PassDispatch temporalPass(const PassContext& c, uint32_t e);
 // The temporal pass writes eye e's 8-bit output with steadyOutputHold (and the codes it shows).
 bool writesHeldOutput(const PassContext& c, uint32_t e);
-// Steady's gain probe of eye e (Params::steadyGainCompensation): before the temporal passes, both eyes.
-PassDispatch gainProbePass(const PassContext& c, uint32_t e);
+// Steady's probe of eye e: before the temporal passes, both eyes. It samples the frame's gain
+// (Params::steadyGainCompensation) and the render's noise (Params::steadyNoiseEstimate) into the records.
+PassDispatch probePass(const PassContext& c, uint32_t e);
 // The probe's samples: the pixels at (B/2 + i B, B/2 + j B) of an eye of width x height, for blocks of
 // side B. Their count, and the side the probe takes: 4 px (one pixel in 16) until the eye holds more
-// than kGainProbeSamplesPerEye samples, then doubled until it holds no more. The probe's cost then
+// than kProbeSamplesPerEye samples, then doubled until it holds no more. The probe's cost then
 // stops growing with the resolution (round 17), and its test keeps 16 times the samples it found the
-// evaluation's fades with (128x128 eyes: 1024 each).
-constexpr int32_t kGainProbeSmallestBlockPx = 4;
-constexpr int64_t kGainProbeSamplesPerEye = 16384;
-int64_t gainProbeSamples(int32_t width, int32_t height, int32_t blockPx);
-int32_t gainProbeBlockPx(int32_t width, int32_t height);
-// A probe invocation sums this many blocks per axis before it adds to the record (temporal.comp).
-constexpr uint32_t kGainProbeBlocksPerInvocation = 4;
+// evaluation's fades with (128x128 eyes: 1024 each). One invocation per block (round 22).
+constexpr int32_t kProbeSmallestBlockPx = 4;
+constexpr int64_t kProbeSamplesPerEye = 16384;
+int64_t probeSamples(int32_t width, int32_t height, int32_t blockPx);
+int32_t probeBlockPx(int32_t width, int32_t height);
 // The stereo pass of eye e: this eye blended with the other (seed 002 §4.1), into the output.
 PassDispatch stereoPass(const PassContext& c, uint32_t e);
 

@@ -5,6 +5,7 @@
 #include <system_error>
 
 #include "filter_error.h"
+#include "filter_resources.h"
 
 #include "steadyxr/shaders/copy_rgba16f_spv.h"
 #include "steadyxr/shaders/copy_rgba8_spv.h"
@@ -17,8 +18,57 @@
 
 namespace steadyxr::core::detail {
 
+bool createPassLayouts(VkDevice device, Unique<VkDescriptorSetLayout>* setLayout,
+                       Unique<VkPipelineLayout>* pipelineLayout) {
+  std::array<VkDescriptorSetLayoutBinding, kBindings> b{};
+  for (uint32_t i = 0; i < b.size(); ++i) {
+    b[i].binding = i;
+    b[i].descriptorCount = 1;
+    b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    b[i].descriptorType = descriptorType(i);
+  }
+  VkDescriptorSetLayoutCreateInfo dlci{};
+  dlci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+  dlci.bindingCount = static_cast<uint32_t>(b.size());
+  dlci.pBindings = b.data();
+  VkDescriptorSetLayout dsl = VK_NULL_HANDLE;
+  if (vkCreateDescriptorSetLayout(device, &dlci, nullptr, &dsl) != VK_SUCCESS) return false;
+  *setLayout = Unique<VkDescriptorSetLayout>(device, dsl);
+  VkPipelineLayoutCreateInfo plci{};
+  plci.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+  plci.setLayoutCount = 1;
+  plci.pSetLayouts = &dsl;
+  VkPipelineLayout pl = VK_NULL_HANDLE;
+  if (vkCreatePipelineLayout(device, &plci, nullptr, &pl) != VK_SUCCESS) return false;
+  *pipelineLayout = Unique<VkPipelineLayout>(device, pl);
+  return true;
+}
+
+namespace {
+constexpr std::array<const char*, static_cast<size_t>(Pass::Count)> kPassNames{"copy", "temporal", "stereo",
+                                                                               "fxaa"};
+constexpr std::array<const char*, 2> kOutFmtNames{"rgba8", "rgba16f"};  // kOut8, kOut16
+}  // namespace
+
+const char* passName(Pass pass) {
+  return pass < Pass::Count ? kPassNames[static_cast<size_t>(pass)] : "?";
+}
+const char* outFmtName(OutFmt fmt) {
+  return fmt == kOut8 ? kOutFmtNames[0] : kOutFmtNames[1];
+}
+bool parsePass(const std::string& name, Pass* pass) {
+  for (size_t i = 0; i < kPassNames.size(); ++i)
+    if (name == kPassNames[i]) return *pass = static_cast<Pass>(i), true;
+  return false;
+}
+bool parseOutFmt(const std::string& name, OutFmt* fmt) {
+  if (name != kOutFmtNames[0] && name != kOutFmtNames[1]) return false;
+  *fmt = name == kOutFmtNames[0] ? kOut8 : kOut16;
+  return true;
+}
+
 CompiledPipeline compilePipeline(VkDevice device, VkPipelineLayout layout, Pass pass, OutFmt fmt,
-                                 SpecKey spec) {
+                                 SpecKey spec, VkPipelineCreateFlags flags) {
   const uint32_t* code = nullptr;
   size_t size = 0;
   auto pick = [&](const auto& a, const auto& b) {
@@ -51,6 +101,7 @@ CompiledPipeline compilePipeline(VkDevice device, VkPipelineLayout layout, Pass 
   Unique<VkShaderModule> moduleOwner(device, module, vkDestroyShaderModule);
   VkComputePipelineCreateInfo cpci{};
   cpci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+  cpci.flags = flags;
   cpci.stage = {};
   cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
   cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -88,13 +139,13 @@ VkPipeline PipelineCache::get(Pass pass, OutFmt fmt, const SpecKey& spec, std::s
   if (!slot.pending.valid()) {
     if (background_) {
       try {
-        slot.pending = std::async(std::launch::async, compilePipeline, device_, layout_, pass, fmt, spec);
+        slot.pending = std::async(std::launch::async, compilePipeline, device_, layout_, pass, fmt, spec, 0);
       } catch (const std::system_error&) {  // no thread to be had: compile here instead
       }
     }
     if (!slot.pending.valid()) {
       std::promise<CompiledPipeline> now;
-      now.set_value(compilePipeline(device_, layout_, pass, fmt, spec));
+      now.set_value(compilePipeline(device_, layout_, pass, fmt, spec, 0));
       slot.pending = now.get_future();
     }
   }
@@ -111,6 +162,16 @@ VkPipeline PipelineCache::get(Pass pass, OutFmt fmt, const SpecKey& spec, std::s
   }
   slot.pipeline = Unique<VkPipeline>(device_, c.pipeline);
   return c.pipeline;
+}
+
+std::vector<PipelineDescription> PipelineCache::made() const {
+  std::vector<PipelineDescription> out;
+  for (const auto& [key, slot] : slots_) {
+    if (!slot.pipeline) continue;
+    const auto& [pass, fmt, spec] = key;
+    out.push_back({passName(pass), outFmtName(fmt), std::vector<int32_t>(spec.begin(), spec.end())});
+  }
+  return out;
 }
 
 }  // namespace steadyxr::core::detail

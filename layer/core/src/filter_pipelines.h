@@ -10,6 +10,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include "steadyxr/core/filter.h"
 #include "steadyxr/core/vk_handle.h"
 
 namespace steadyxr::core::detail {
@@ -26,10 +27,28 @@ struct CompiledPipeline {
   std::string error;
 };
 
+// Workgroup size (spec constants 11 and 12 in common.glsl). On llvmpipe a 32x2 group of 4x4
+// blocks measured best (steadyxr-bench, 1024x1024: default 42-44 ms against 47-49 with 16x8);
+// GPUs keep the 16x8 measured on the H100.
+constexpr uint32_t kCpuGroupX = 32, kCpuGroupY = 2;
+constexpr uint32_t kGpuGroupX = 16, kGpuGroupY = 8;
+// Where SpecKey holds kBlocked and the workgroup size (constant_id 10, 11, 12).
+constexpr size_t kSpecBlocked = 10, kSpecGroupX = 11, kSpecGroupY = 12;
+
+// The descriptor set layout every pass shares (common.glsl's bindings) and the pipeline layout of it.
+bool createPassLayouts(VkDevice device, Unique<VkDescriptorSetLayout>* setLayout,
+                       Unique<VkPipelineLayout>* pipelineLayout);
+
 // Creates one compute pipeline. Touches nothing but its arguments, so it may run on a worker
 // thread: vkCreateShaderModule and vkCreateComputePipelines need no external synchronisation.
+// flags: VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR for steadyxr-shader-stats, else 0.
 CompiledPipeline compilePipeline(VkDevice device, VkPipelineLayout layout, Pass pass, OutFmt fmt,
-                                 SpecKey spec);
+                                 SpecKey spec, VkPipelineCreateFlags flags = 0);
+// The names PipelineDescription uses, and back (false: not a pass or format of the filter).
+const char* passName(Pass pass);
+const char* outFmtName(OutFmt fmt);
+bool parsePass(const std::string& name, Pass* pass);
+bool parseOutFmt(const std::string& name, OutFmt* fmt);
 
 // One pipeline of the cache: made, being compiled on a worker thread, or failed.
 struct PipelineSlot {
@@ -54,7 +73,8 @@ class PipelineCache {
   void setLayout(VkPipelineLayout layout) { layout_ = layout; }
 
   VkPipeline get(Pass pass, OutFmt fmt, const SpecKey& spec, std::string* error);
-  bool compiling = false;  // a get() of this frame found its pipeline still compiling
+  std::vector<PipelineDescription> made() const;  // the pipelines compiled so far
+  bool compiling = false;                         // a get() of this frame found its pipeline still compiling
 
  private:
   VkDevice device_;

@@ -18,6 +18,10 @@ using detail::fail;
 using detail::FramePlan;
 using detail::hasStencil;
 using detail::kBindings;
+using detail::kCpuGroupX;
+using detail::kCpuGroupY;
+using detail::kGpuGroupX;
+using detail::kGpuGroupY;
 using detail::kMaxDispatches;
 using detail::kOut8;
 using detail::kQueries;
@@ -30,12 +34,6 @@ using detail::passSpecKey;
 using detail::Slot;
 
 namespace {
-
-// Workgroup size (spec constants 11 and 12 in common.glsl). On llvmpipe a 32x2 group of 4x4
-// blocks measured best (steadyxr-bench, 1024x1024: default 42-44 ms against 47-49 with 16x8);
-// GPUs keep the 16x8 measured on the H100.
-constexpr uint32_t kCpuGroupX = 32, kCpuGroupY = 2;
-constexpr uint32_t kGpuGroupX = 16, kGpuGroupY = 8;
 
 // Blocks pay on a CPU device for every pass they apply to (measured with steadyxr-bench --block
 // on lavapipe at 1024x1024: the copy pass 15-19 % faster, hmtaa 39-47 against 49-50 ms, the 3x3
@@ -150,8 +148,8 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
   const bool cpuDevice = ctx.isCpuDevice();
   const uint32_t groupX = cpuDevice ? kCpuGroupX : kGpuGroupX;
   const uint32_t groupY = cpuDevice ? kCpuGroupY : kGpuGroupY;
-  // fxaa's reads follow the edges; the gain probe has blocks of its own on every device (gainProbeBlockPx).
-  const bool blocked = d.switches.gainProbe || (d.pass != Pass::Fxaa && blockPixels(params, ctx));
+  // fxaa's reads follow the edges; the probe has blocks of its own on every device (probeBlockPx).
+  const bool blocked = d.switches.probe || (d.pass != Pass::Fxaa && blockPixels(params, ctx));
   const VkPipeline p = pipelines.get(d.pass, d.fmt, passSpecKey(d, params, blocked, groupX, groupY), error);
   if (!p && pipelines.compiling)
     return true;  // record nothing, but go on: every pipeline of the frame starts
@@ -212,11 +210,10 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
   if (p != rec.bound) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p);
   rec.bound = p;
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout.get(), 0, 1, &set, 0, nullptr);
-  // blocked: each invocation handles 4x4 pixels (kBlockW x kBlockH)
-  const uint32_t invocationPx = d.switches.gainProbe ? static_cast<uint32_t>(d.uniforms.gainProbeBlockPx) *
-                                                           detail::kGainProbeBlocksPerInvocation
-                                : blocked ? 4
-                                          : 1;
+  // blocked: each invocation handles 4x4 pixels (kBlockW x kBlockH); the probe's, one block of its own
+  const uint32_t invocationPx = d.switches.probe ? static_cast<uint32_t>(d.uniforms.probeBlockPx)
+                                : blocked        ? 4
+                                                 : 1;
   const uint32_t gx = invocationPx * groupX;
   const uint32_t gy = invocationPx * groupY;
   vkCmdDispatch(cmd, (static_cast<uint32_t>(d.uniforms.src0Size.x) + gx - 1) / gx,

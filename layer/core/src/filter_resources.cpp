@@ -12,9 +12,8 @@
 
 namespace steadyxr::core {
 
-using detail::descriptorType;
+using detail::createPassLayouts;
 using detail::fail;
-using detail::kBindings;
 using detail::kMaxDispatches;
 using detail::kQueries;
 using detail::OwnedImage;
@@ -128,30 +127,9 @@ bool Filter::Impl::init(std::string* error) {
     return fail(error, "vkCreateSampler failed"), false;
   samplerNearest = Unique<VkSampler>(device, smp);
 
-  std::array<VkDescriptorSetLayoutBinding, kBindings> b{};
-  for (uint32_t i = 0; i < b.size(); ++i) {
-    b[i].binding = i;
-    b[i].descriptorCount = 1;
-    b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-    b[i].descriptorType = descriptorType(i);
-  }
-  VkDescriptorSetLayoutCreateInfo dlci{};
-  dlci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-  dlci.bindingCount = static_cast<uint32_t>(b.size());
-  dlci.pBindings = b.data();
-  VkDescriptorSetLayout dsl = VK_NULL_HANDLE;
-  if (vkCreateDescriptorSetLayout(device, &dlci, nullptr, &dsl) != VK_SUCCESS)
-    return fail(error, "vkCreateDescriptorSetLayout failed"), false;
-  setLayout = Unique<VkDescriptorSetLayout>(device, dsl);
-  VkPipelineLayoutCreateInfo plci{};
-  plci.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
-  plci.setLayoutCount = 1;
-  plci.pSetLayouts = &dsl;
-  VkPipelineLayout pl = VK_NULL_HANDLE;
-  if (vkCreatePipelineLayout(device, &plci, nullptr, &pl) != VK_SUCCESS)
-    return fail(error, "vkCreatePipelineLayout failed"), false;
-  pipelineLayout = Unique<VkPipelineLayout>(device, pl);
-  pipelines.setLayout(pl);
+  if (!createPassLayouts(device, &setLayout, &pipelineLayout))
+    return fail(error, "the passes' descriptor set or pipeline layout"), false;
+  pipelines.setLayout(pipelineLayout.get());
 
   for (auto& s : slots) {
     VkCommandPoolCreateInfo cpci{};

@@ -20,7 +20,6 @@ using detail::finiteFov;
 using detail::finitePose;
 using detail::FramePlan;
 using detail::fxaaPass;
-using detail::gainProbePass;
 using detail::isBgra;
 using detail::isDepthFormat;
 using detail::isOutputFormat;
@@ -31,6 +30,7 @@ using detail::kOut8;
 using detail::OwnedImage;
 using detail::PassContext;
 using detail::PassDispatch;
+using detail::probePass;
 using detail::rectInside;
 using detail::sameExtent;
 using detail::sampledLayout;
@@ -250,7 +250,7 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
   const bool probesGain = steady && plan.firstStage && params.steadyGainCompensation;
   if (s.noiseSampled || probesGain) zeroRecords(s);
   bool ok = true;
-  if (probesGain) ok = recordGainProbes(rec, c, error);
+  if (s.noiseSampled || probesGain) ok = recordProbes(rec, c, probesGain, error);
   if (ok && plan.firstStage) {
     for (uint32_t e = 0; e < plan.viewCount && ok; ++e) {
       const PassDispatch d = plan.temporal ? temporalPass(c, e) : plan.fxaa ? fxaaPass(c, e) : copyPass(c, e);
@@ -287,14 +287,15 @@ void Filter::Impl::copyRecordsOut(Slot& s) {
                 VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
 }
 
-// Round 16: both eyes' gain probes into a zeroed record, made visible to the temporal passes that read it.
-bool Filter::Impl::recordGainProbes(Recording& rec, const PassContext& c, std::string* error) {
-  // Every frame, also one without a history (the probe then adds nothing): its pipeline is asked for with
+// Round 16: both eyes' probes into the zeroed records (the gain's, made visible to the temporal passes that
+// read it; round 22: the noise samples too).
+bool Filter::Impl::recordProbes(Recording& rec, const PassContext& c, bool probesGain, std::string* error) {
+  // Every frame, also one without a history (the probe then adds no gain): its pipeline is asked for with
   // the temporal pass's, so no later frame waits for it to compile (and passes through meanwhile).
   for (uint32_t e = 0; e < c.plan.viewCount; ++e) {
-    if (!record(rec, gainProbePass(c, e), error)) return false;
+    if (!record(rec, probePass(c, e), error)) return false;
   }
-  rec.slot.gainProbed = true;
+  rec.slot.gainProbed = probesGain;
   memoryBarrier(rec.slot.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
   return true;

@@ -1,9 +1,9 @@
-// The render's noise level, from the histogram the temporal pass fills (shaders/temporal.comp,
-// recordNoiseSample). Donoho and Johnstone's robust scale estimate ("Ideal spatial adaptation by
-// wavelet shrinkage", Biometrika 1994): sigma = median |d| / 0.6745 over the finest diagonal detail
-// coefficients d, which noise fills everywhere and a picture only at its finest detail. Here d is
-// the luma's x^2 y^2 contrast of a 3x3, divided by its norm (6), so that d has the luma noise's
-// standard deviation.
+// The render's noise level, from the histogram the frame's probe fills (shaders/temporal.comp,
+// probeFrame; the temporal pass until round 22). Donoho and Johnstone's robust scale estimate ("Ideal spatial
+// adaptation by wavelet shrinkage", Biometrika 1994): sigma = median |d| / 0.6745 over the finest diagonal
+// detail coefficients d, which noise fills everywhere and a picture only at its finest detail. Here d is the
+// luma's x^2 y^2 contrast of a 3x3, divided by its norm (6), so that d has the luma noise's standard
+// deviation.
 //
 // Round 14: the same detail of a second quantity, the residual between this frame's footprint
 // estimate and the reprojected history, fills a second histogram. Noise is new in every frame, so it
@@ -40,11 +40,12 @@ constexpr uint32_t kNoiseCopies = 8;
 constexpr uint32_t kNoiseCopyStrideWords = (kNoiseRecordWords + 15) / 16 * 16;  // 64-byte lines
 constexpr uint32_t kNoiseBufferBytes = kNoiseCopies * kNoiseCopyStrideWords * sizeof(uint32_t);
 // Round 16 (Params::steadyGainCompensation): the gain probe's record after the noise record's copies, on
-// a line of its own (temporal.comp, probeGain): the luma of the frame and of the reprojected history
+// a line of its own (temporal.comp, probeFrame): the luma of the frame and of the reprojected history
 // summed (units 1/kLumaSumScale), the magnitude of their difference (1/kResidualSumScale) and the
 // samples. Both eyes' probes add to it; the temporal passes of the same frame read it, once per
-// invocation. One copy since round 17: a probe invocation adds once for 16 samples, so its adds seldom
-// meet (round 16 kept kNoiseCopies copies, read by every invocation of the temporal passes).
+// invocation. One copy since round 17: the probe adds its sums once per workgroup (round 22; once per 16
+// samples before), so its adds seldom meet (round 16 kept kNoiseCopies copies, read by every invocation
+// of the temporal passes).
 constexpr uint32_t kGainRecordWords = 4;
 constexpr uint32_t kGainCopyStrideWords = 16;  // one 64-byte line
 constexpr float kLumaSumScale = 1024.0f;

@@ -70,7 +70,7 @@ struct PassUniforms {
   float steadyClipCurvatureKappa;  // steady: > 0 = the clip box bounded by kappa (|cxx| + |cyy|); 0 = off
   float steadyClipCurvatureInner;  // steady (round 7): the one-sided curvature box's inner bound (spec bit0)
   float steadyNoiseVariance;       // steady (round 13): the render's noise variance per linear RGB channel
-  int32_t gainProbeBlockPx;        // steady's gain probe (round 17): one sample per block of this side
+  int32_t probeBlockPx;            // steady's probe (round 17): one sample per block of this side
   float steadyOutputHold;          // steady (round 20): the 8-bit output's hysteresis, codes beyond 1/2
   int32_t shownValid;              // steady (round 20): 1 = last frame's shown codes are this pass's
 };
@@ -119,7 +119,7 @@ static_assert(offsetof(PassUniforms, stereoTapCurvature) == 484);
 static_assert(offsetof(PassUniforms, steadyClipCurvatureKappa) == 488);
 static_assert(offsetof(PassUniforms, steadyClipCurvatureInner) == 492);
 static_assert(offsetof(PassUniforms, steadyNoiseVariance) == 496);
-static_assert(offsetof(PassUniforms, gainProbeBlockPx) == 500);
+static_assert(offsetof(PassUniforms, probeBlockPx) == 500);
 static_assert(offsetof(PassUniforms, steadyOutputHold) == 504);
 static_assert(offsetof(PassUniforms, shownValid) == 508);
 static_assert(sizeof(PassUniforms) == 512);  // the block's 512 bytes (16-aligned by DepthToInvZ)

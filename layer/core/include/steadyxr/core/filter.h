@@ -6,9 +6,11 @@
 #include "steadyxr/core/params.h"
 #include "steadyxr/core/vulkan_context.h"
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace steadyxr::core {
 
@@ -35,6 +37,14 @@ struct FilterOptions {
   // lavapipe). A host app's frame loop (the layer) wants this; tests and benchmarks want every
   // frame filtered.
   bool compileInBackground = false;
+};
+
+// One compute pipeline the filter made (diagnostics): its pass (copy, temporal, stereo, fxaa), the storage
+// format it writes (rgba8, rgba16f) and its specialisation constants in constant_id order (common.glsl).
+struct PipelineDescription {
+  std::string pass;
+  std::string storage;
+  std::vector<int32_t> specialisation;
 };
 
 class Filter {
@@ -68,6 +78,10 @@ class Filter {
   std::optional<float> estimatedNoiseVariance() const;
   // The gain probe's sums of the newest finished frame that had samples (a history), if any.
   std::optional<GainProbeSums> lastGainProbe() const;
+
+  // The pipelines made so far, in no particular order (steadyxr-bench --pipelines prints them for
+  // steadyxr-shader-stats).
+  std::vector<PipelineDescription> pipelines() const;
 
   // Forget cached views/descriptors of an image that the caller is about to destroy.
   void forgetImage(VkImage image);

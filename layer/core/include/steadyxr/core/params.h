@@ -156,11 +156,12 @@ struct Params {
   // and the clip box widened by one pixel's noise variance: a history may differ from the box by as
   // much as the noisy render itself differs from the truth (none's own error). The estimate: Donoho
   // and Johnstone's robust scale, sigma = median |d| / 0.6745, over the luma's x^2 y^2 contrast d of
-  // the 3x3 at one pixel in 16 (the finest diagonal detail), 3x3s with none of it (flat, masked) left
-  // out, from the newest frame the GPU has finished. Why: without it the box (items 6 and 7, built
-  // from second differences) clips a good history to a noisy centre, and plain taa beat the default
-  // on noisy renders. One frame cannot tell fine aliased detail from noise; rounds 14 and 15 (below)
-  // keep a clean render's detail and a fade's lag out of it. false: the default before round 15.
+  // the 3x3 at one pixel in 16 (the finest diagonal detail; at most 16384 an eye since round 22: the
+  // probe's, below), 3x3s with none of it (flat, masked) left out, from the newest frame the GPU has
+  // finished. Why: without it the box (items 6 and 7, built from second differences) clips a good history to
+  // a noisy centre, and plain taa beat the default on noisy renders. One frame cannot tell fine aliased
+  // detail from noise; rounds 14 and 15 (below) keep a clean render's detail and a fade's lag out of it.
+  // false: the default before round 15.
   bool steadyNoiseEstimate = true;
   // Round 14: the estimate confirmed over time (noise_estimate.h): the same detail of the residual
   // between this frame's footprint estimate and the reprojected history, the smallest of the last 4
