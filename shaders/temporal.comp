@@ -146,10 +146,10 @@ vec3 footprintEstimate(vec3 centre, vec3 edges, vec3 sum3x3, vec3 sqrtEdges, vec
       (1.0 - 2.0 * k) * (1.0 - 2.0 * k) * sqrt(centre) + k * (1.0 - 2.0 * k) * sqrtEdges + k * k * sqrtCorners;
   return encoded ? g * g : linear;
 }
-// The probe's 3x3 of src0 around p (inside the image): steady's footprint estimate of the pixel, and
-// round 13's detail, the luma's x^2 y^2 contrast (weights (1, -2, 1) x (1, -2, 1), norm 6) scaled to the
-// noise's standard deviation. Sums in the pass's order (windowSums: by columns).
-vec3 probeFootprint(ivec2 p, out float detail) {
+// The probe's 3x3 of src0 around p (inside the image): steady's footprint estimate of the pixel, its
+// centre texel, and round 13's detail, the luma's x^2 y^2 contrast (weights (1, -2, 1) x (1, -2, 1),
+// norm 6) scaled to the noise's standard deviation. Sums in the pass's order (windowSums: by columns).
+vec3 probeFootprint(ivec2 p, out vec3 centre, out float detail) {
   vec3 c[9];
   [[unroll]] for (int y = -1; y <= 1; ++y)
     [[unroll]] for (int x = -1; x <= 1; ++x) c[(y + 1) * 3 + x + 1] = fetchSrc0(p + ivec2(x, y));
@@ -159,6 +159,7 @@ vec3 probeFootprint(ivec2 p, out float detail) {
   const vec3 sum3x3 = (c[0] + c[3] + c[6]) + (c[1] + c[4] + c[7]) + (c[2] + c[5] + c[8]);
   const vec3 sqrtEdges = sqrt(c[3]) + sqrt(c[5]) + sqrt(c[1]) + sqrt(c[7]);
   const vec3 sqrtCorners = sqrt(c[0]) + sqrt(c[2]) + sqrt(c[6]) + sqrt(c[8]);
+  centre = c[4];
   return footprintEstimate(c[4], edges, sum3x3, sqrtEdges, sqrtCorners, P.steadyFootprint,
                            P.steadyFootprintEncoded > 0.5);
 }
@@ -249,8 +250,9 @@ void probeFrame(ivec2 p) {
     for (int i = 0; i < 6; ++i) sProbeSums[i] = 0u;
   barrier();
   if (all(lessThan(p, P.src0Size))) {
+    vec3 centre;
     float frameDetail;
-    const vec3 estimate = probeFootprint(p, frameDetail);
+    const vec3 estimate = probeFootprint(p, centre, frameDetail);
     if (noiseSampled && all(lessThan(p + 1, P.src0Size))) addNoiseSample(frameDetail, 0);
     float invZ = P.fallbackInvZ;
     if ((kDepthBits & 1) != 0) invZ = invZFromDepth(texelFetch(uDepth0, P.depth0Offset + p, 0).r, P.depth0);
@@ -264,7 +266,7 @@ void probeFrame(ivec2 p) {
         atomicAdd(sProbeSums[kProbeSumsResidual], uint(units));  // two's complement: a signed sum
         atomicAdd(sProbeSums[kProbeSumsResidual + 1], uint(abs(units)));
       }
-      const float currentLuma = clamp(toYCoCg(fetchSrc0(p)).x, 0.0, 1.0);
+      const float currentLuma = clamp(toYCoCg(centre).x, 0.0, 1.0);
       const float historyLuma = clamp(toYCoCg(reprojected).x, 0.0, 1.0);
       if (probesGain && !isnan(currentLuma) && !isnan(historyLuma)) {
         atomicAdd(sProbeSums[kProbeSumsGain], uint(round(currentLuma * kLumaSumScale)));
