@@ -135,15 +135,16 @@ run_case() {
     return
   fi
   # hello_xr exits cleanly when its standard input closes: a clean run of at least N seconds, and
-  # longer (up to 60 s more) until the layer has filtered a quarter more frames than the case checks,
-  # in a quarter more time than frames waited for its pipelines (the checks below). Round 21's first
-  # clean-clone CI had a slow spell of the machine in which the jitter case filtered 8 frames in its
-  # 6 s (294 ms a frame; 97 on a quiet machine) and failed a check of its bookkeeping.
+  # longer (up to 30 s more, 3 min over the six cases at most) until the layer has filtered a quarter
+  # more frames than the case checks, in a quarter more time than frames waited for its pipelines
+  # (the checks below). Round 21's first clean-clone CI had a slow spell of the machine in which the
+  # jitter case filtered 8 frames in its 6 s (294 ms a frame; 97 on a quiet machine) and failed a
+  # check of its bookkeeping.
   local compositor_hz=20
   [[ $compositor == xcb ]] && compositor_hz=55
   local want_frames=$(((min_frames * 5 + 3) / 4))
-  { sleep "$run_seconds"; e2e_wait_for_frames "$hdir/xdg" "$want_frames" "$compositor_hz" 60; } |
-    timeout --kill-after=10 $((run_seconds + 150)) chroot "$root" /usr/bin/env -i "${env[@]}" \
+  { sleep "$run_seconds"; e2e_wait_for_frames "$hdir/xdg" "$want_frames" "$compositor_hz" 30; } |
+    timeout --kill-after=10 $((run_seconds + 120)) chroot "$root" /usr/bin/env -i "${env[@]}" \
     XR_API_LAYER_PATH="$layer_path" XR_ENABLE_API_LAYERS="$enable" \
     XR_CORE_VALIDATION_EXPORT_TYPE=text XR_CORE_VALIDATION_FILE_NAME="$dir/core_validation.txt" \
     "${layer_env[@]}" STEADYXR_METHOD="$method" STEADYXR_DUMP_FRAMES="$dump" STEADYXR_DUMP_DIR="$dir/dump" STEADYXR_LOG_LEVEL=${STEADYXR_E2E_LOG_LEVEL:-info} \
