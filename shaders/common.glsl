@@ -111,7 +111,7 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   float steadyClipCurvatureKappa;  // steady: > 0 = the clip box bounded by kappa (|cxx| + |cyy|); 0 = off
   float steadyClipCurvatureInner;  // steady (round 7): the one-sided curvature box's inner bound (spec bit0)
   float steadyNoiseVariance;       // steady (round 13): the render's noise variance per linear RGB channel
-  int probeBlockPx;            // steady's probe (round 17): one sample per block of this side
+  int probeBlockPx;                // steady's probe (round 17): one sample per block of this side
   float steadyOutputHold;          // steady (round 20): the 8-bit output's hysteresis, codes beyond 1/2
   int shownValid;                  // steady (round 20): 1 = last frame's shown codes are this pass's
 } P;

@@ -76,6 +76,11 @@ e2e_start_monado() {
   return 1
 }
 
+# e2e_status_file XDG_DIR: the layer's status file ($XDG_RUNTIME_DIR/steadyxr/*.status, rewritten as it
+# filters), empty when there is none yet. e2e_status_field XDG_DIR KEY: one of its fields.
+e2e_status_file() { find "$1/steadyxr" -name "*.status" 2>/dev/null | head -n 1; }
+e2e_status_field() { sed -n "s/^$2=//p" "$(e2e_status_file "$1")" 2>/dev/null | head -n 1; }
+
 # e2e_session_times WARMING FILTERED GPU_MS COMPOSITOR_HZ: prints the seconds the session spent on frames
 # that waited for the filter's pipelines and on filtered frames. A waiting frame passes at the compositor's
 # rate (shared/notes: the null compositor 20 Hz, xcb about 55 Hz); a filtered one takes at least the
@@ -86,17 +91,16 @@ e2e_session_times() {
 }
 
 # e2e_wait_for_frames XDG_DIR FRAMES COMPOSITOR_HZ SECONDS: returns once the layer's status file under
-# XDG_DIR ($XDG_RUNTIME_DIR/steadyxr/*.status, updated as it filters) counts FRAMES filtered frames and
+# XDG_DIR (e2e_status_file) counts FRAMES filtered frames and
 # they took a quarter more time than the frames that waited for the pipelines (e2e_session_times), or
 # after SECONDS. A run's length then follows the machine: a slow spell lengthens it instead of failing
 # checks that are about the session, not its speed.
 e2e_wait_for_frames() {
-  local status filtered warming gpu_ms times deadline=$((SECONDS + $4))
+  local filtered warming gpu_ms times deadline=$((SECONDS + $4))
   while ((SECONDS < deadline)); do
-    status=$(find "$1/steadyxr" -name "*.status" 2>/dev/null | head -n 1)
-    filtered=$(sed -n 's/^frames_filtered=//p' "$status" 2>/dev/null | head -n 1)
-    warming=$(sed -n 's/^frames_warming_up=//p' "$status" 2>/dev/null | head -n 1)
-    gpu_ms=$(sed -n 's/^gpu_ms_total=//p' "$status" 2>/dev/null | head -n 1)
+    filtered=$(e2e_status_field "$1" frames_filtered)
+    warming=$(e2e_status_field "$1" frames_warming_up)
+    gpu_ms=$(e2e_status_field "$1" gpu_ms_total)
     times=$(e2e_session_times "${warming:-0}" "${filtered:-0}" "${gpu_ms:-0}" "$3")
     if ((${filtered:-0} >= $2)) && awk -v t="$times" 'BEGIN { split(t, s, " "); exit !(s[2] >= 1.25 * s[1]) }'; then
       return 0

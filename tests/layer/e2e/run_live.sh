@@ -60,8 +60,8 @@ app=$!
 pids+=("$app")
 exec 7>"$host/stdin"
 
-status_file() { ls "$host"/xdg/steadyxr/*.status 2>/dev/null | head -n 1; }
-field() { sed -n "s/^$1=//p" "$(status_file)" 2>/dev/null | head -n 1; }
+status_file() { e2e_status_file "$host/xdg"; }
+field() { e2e_status_field "$host/xdg" "$1"; }
 # wait_for SECONDS CONDITION: polls the status file until the shell condition holds.
 wait_for() {
   local limit=$(($1 * 10)) i
