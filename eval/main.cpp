@@ -38,7 +38,8 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        (astronaut, camera, coffee, brick, grass, gravel, text, ...) or the
                        procedural zoneplate, lines1px, hatch, smalltext, darkgradient (default
                        astronaut,camera,...: the default suite uses the first two and zoneplate
-                       under fixation, every given one otherwise)
+                       under fixation, every given one otherwise); a picture that does not
+                       load as PNG stops the run (python3-skimage's JPEGs: convert them first)
   --pictures-dir DIR   where built-in picture names are found (default python3-skimage's data)
   --methods LIST       none,fxaa,msaa2,msaa4,taa,hmtaa,vtaa,hybrid, each also <m>+stereo,
                        stereo, default; the temporal ones and default also <m>+jitter (the

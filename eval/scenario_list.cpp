@@ -82,27 +82,34 @@ std::vector<Scenario> buildScenarios(const Options& o, std::string* error) {
   return out;
 }
 
-TextureSet gatherTextures(const std::vector<Scenario>& scenarios, const Options& o) {
-  TextureSet textures;
+bool gatherTextures(const std::vector<Scenario>& scenarios, const Options& o, TextureSet* textures,
+                    std::string* error) {
   Rgba8 white;
   white.width = white.height = 1;
   white.pixels = {255, 255, 255, 255};
-  textures.images.push_back(white);
-  textures.names.push_back("white");
+  textures->images = {white};
+  textures->names = {"white"};
   // The scenarios' pictures first: a path the user gave wins over a built-in name with its stem.
-  std::vector<std::string> wanted;
-  for (const Scenario& s : scenarios) wanted.push_back(s.picture);
-  for (const char* name : {"brick", "grass", "text", "coffee", "camera"}) wanted.push_back(name);
-  for (const std::string& name : wanted) {
-    if (textures.find(textureKey(name)) != 0) continue;
+  for (const Scenario& s : scenarios) {
+    if (textures->find(textureKey(s.picture)) != 0) continue;
+    Rgba8 img;
+    if (isProceduralPicture(s.picture)) {
+      img = proceduralPicture(s.picture, o.height);
+    } else if (!loadPicture(s.picture, o.picturesDir, &img, error)) {
+      *error += " (nothing was measured)";
+      return false;
+    }
+    textures->images.push_back(std::move(img));
+    textures->names.push_back(textureKey(s.picture));
+  }
+  for (const char* name : {"brick", "grass", "text", "coffee", "camera"}) {
+    if (textures->find(name) != 0) continue;
     std::string warning;
-    textures.images.push_back(isProceduralPicture(name)
-                                  ? proceduralPicture(name, o.height)
-                                  : loadTextureOrFallback(name, o.picturesDir, &warning));
-    textures.names.push_back(textureKey(name));
+    textures->images.push_back(loadTextureOrFallback(name, o.picturesDir, &warning));
+    textures->names.push_back(name);
     if (!warning.empty()) std::cerr << "steadyxr-eval: " << warning << "\n";
   }
-  return textures;
+  return true;
 }
 
 }  // namespace steadyxr::eval

@@ -56,14 +56,39 @@ std::string textureKey(const std::string& nameOrPath) {
   return std::filesystem::path(nameOrPath).stem().string();
 }
 
+bool loadPicture(const std::string& nameOrPath, const std::string& picturesDir, Rgba8* out,
+                 std::string* error) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  std::string err;
+  for (const std::string& path : {nameOrPath, picturesDir + "/" + nameOrPath + ".png"}) {
+    if (!fs::is_regular_file(path, ec)) continue;
+    if (loadPng(path, out, &err)) return true;
+    *error = "picture '" + nameOrPath + "': " + path + " is not a PNG steadyxr-eval can read (" + err + ")";
+    return false;
+  }
+  *error = "picture '" + nameOrPath + "' not found: no file '" + nameOrPath + "' and no " + picturesDir +
+           "/" + nameOrPath + ".png";
+  // A picture in another format (python3-skimage ships some as JPEG): say so, since only PNG is read.
+  const fs::path dir =
+      fs::path(nameOrPath).has_parent_path() ? fs::path(nameOrPath).parent_path() : fs::path(picturesDir);
+  const std::string stem = textureKey(nameOrPath);
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->path().stem() == stem && it->is_regular_file(ec)) {
+      *error += "; " + it->path().string() +
+                " is there, but steadyxr-eval reads PNG only: convert it to PNG and give the PNG's path";
+      break;
+    }
+  }
+  return false;
+}
+
 Rgba8 loadTextureOrFallback(const std::string& nameOrPath, const std::string& picturesDir,
                             std::string* warning) {
   Rgba8 img;
   std::string err;
-  if (std::filesystem::exists(nameOrPath) && loadPng(nameOrPath, &img, &err)) return img;
-  const std::string fromData = picturesDir + "/" + nameOrPath + ".png";
-  if (std::filesystem::exists(fromData) && loadPng(fromData, &img, &err)) return img;
-  if (warning) *warning = "texture '" + nameOrPath + "' not found (" + err + "); using a checkerboard";
+  if (loadPicture(nameOrPath, picturesDir, &img, &err)) return img;
+  if (warning) *warning = err + "; using a checkerboard";
   img.width = img.height = 256;
   img.pixels.resize(256 * 256 * 4);
   for (int y = 0; y < 256; ++y) {

@@ -24,8 +24,14 @@ struct TextureSet {
   uint32_t find(const std::string& name) const;  // 0 when absent
 };
 
-// Loads `nameOrPath`: an existing file path, or a name in python3-skimage's data folder;
-// falls back to a procedural checkerboard (with a note in *warning) so runs never fail on it.
+// Loads `nameOrPath`: an existing PNG file, or NAME.png in `picturesDir` (python3-skimage's data
+// by default). False with *error in the user's words (what was looked for, and a file of the same
+// name in another format) when neither loads.
+bool loadPicture(const std::string& nameOrPath, const std::string& picturesDir, Rgba8* out,
+                 std::string* error);
+// loadPicture, else a procedural checkerboard with a note in *warning: only for the pictures the
+// scenes load on their own (a video's second picture), never for one the user named, whose figures
+// would then be the checkerboard's.
 Rgba8 loadTextureOrFallback(const std::string& nameOrPath, const std::string& picturesDir,
                             std::string* warning);
 inline constexpr const char* kDefaultPicturesDir = "/usr/lib/python3/dist-packages/skimage/data";

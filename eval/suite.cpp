@@ -67,6 +67,12 @@ int runSuite(const Options& o) {
     std::cerr << "steadyxr-eval: " << (error.empty() ? "no scenarios" : error) << "\n";
     return 2;
   }
+  // Every texture any scenario needs, uploaded once (index 0 = white); before anything is written.
+  TextureSet textures;
+  if (!gatherTextures(scenarios, o, &textures, &error)) {
+    std::cerr << "steadyxr-eval: " << error << "\n";
+    return 2;
+  }
   // Created first so that it outlives every filter and renderer below.
   core::OwnedContextOptions co;
   co.enableValidation = o.validation;
@@ -96,8 +102,6 @@ int runSuite(const Options& o) {
   std::stable_partition(variants.begin(), variants.end(), [](const Variant& v) { return !v.oracle; });
   std::filesystem::create_directories(o.outDir + "/crops");
 
-  // Every texture any scenario needs, uploaded once (index 0 = white).
-  const TextureSet textures = gatherTextures(scenarios, o);
   RenderOptions renderOptions;
   renderOptions.srgb = !o.unorm;
   renderOptions.mipmaps = o.mipmaps;
