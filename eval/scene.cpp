@@ -60,11 +60,15 @@ bool loadPicture(const std::string& nameOrPath, const std::string& picturesDir, 
                  std::string* error) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  std::string err;
+  std::string unreadable;  // the first candidate that exists but does not read as PNG
   for (const std::string& path : {nameOrPath, picturesDir + "/" + nameOrPath + ".png"}) {
     if (!fs::is_regular_file(path, ec)) continue;
+    std::string err;
     if (loadPng(path, out, &err)) return true;
-    *error = "picture '" + nameOrPath + "': " + path + " is not a PNG steadyxr-eval can read (" + err + ")";
+    if (unreadable.empty()) unreadable = path + " is not a PNG steadyxr-eval can read (" + err + ")";
+  }
+  if (!unreadable.empty()) {
+    *error = "picture '" + nameOrPath + "': " + unreadable;
     return false;
   }
   *error = "picture '" + nameOrPath + "' not found: no file '" + nameOrPath + "' and no " + picturesDir +
