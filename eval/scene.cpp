@@ -60,8 +60,9 @@ bool loadPicture(const std::string& nameOrPath, const std::string& picturesDir, 
                  std::string* error) {
   namespace fs = std::filesystem;
   std::error_code ec;
+  const std::string inPicturesDir = picturesDir + "/" + nameOrPath + ".png";
   std::string unreadable;  // the first candidate that exists but does not read as PNG
-  for (const std::string& path : {nameOrPath, picturesDir + "/" + nameOrPath + ".png"}) {
+  for (const std::string& path : {nameOrPath, inPicturesDir}) {
     if (!fs::is_regular_file(path, ec)) continue;
     std::string err;
     if (loadPng(path, out, &err)) return true;
@@ -71,8 +72,7 @@ bool loadPicture(const std::string& nameOrPath, const std::string& picturesDir, 
     *error = "picture '" + nameOrPath + "': " + unreadable;
     return false;
   }
-  *error = "picture '" + nameOrPath + "' not found: no file '" + nameOrPath + "' and no " + picturesDir +
-           "/" + nameOrPath + ".png";
+  *error = "picture '" + nameOrPath + "' not found: no file '" + nameOrPath + "' and no " + inPicturesDir;
   // A picture in another format (python3-skimage ships some as JPEG): say so, since only PNG is read.
   const fs::path dir =
       fs::path(nameOrPath).has_parent_path() ? fs::path(nameOrPath).parent_path() : fs::path(picturesDir);
