@@ -71,6 +71,9 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
   --no-mipmaps         sample textures without mipmaps (the worst case; default trilinear)
   --animate CASE       write the animated comparison frames of this case (default: the first
                        case; plot.py makes out/anim/CASE.gif)
+  --write-frames N     every Nth frame of every case: the left eye's truth and each method's
+                       output as 8-bit PNGs, out/frames/CASE/{gt,METHOD}_FRAME.png (for analyses
+                       outside the harness, e.g. docs/experiments/round26-footprint-k.py)
   --resolution WxH     per eye (default 256x256)
   --frames N           app frames per scenario (default 40)
   --seed N             head-motion seed (default 1)
@@ -164,6 +167,9 @@ int main(int argc, char** argv) {
         o.mipmaps = false;
       } else if (a == "--animate") {
         o.animate = next();
+      } else if (a == "--write-frames") {
+        o.writeFramesEvery = std::stoi(next());
+        if (o.writeFramesEvery < 1) throw std::invalid_argument("write-frames");
       } else if (a == "--ppd") {
         o.ppd = std::stod(next());
         if (!(o.ppd > 0.0)) throw std::invalid_argument("ppd");

@@ -72,22 +72,28 @@ def parse_args(argv):
     p.add_argument("--no-mipmaps-fraction", type=float, default=0.3, help="share of cases with --no-mipmaps")
     p.add_argument("--scenes", default=",".join(SCENE_WEIGHTS),
                    help="scenes to draw from (also " + ",".join(OPT_IN_SCENE_WEIGHTS) + ")")
+    p.add_argument("--pictures", default=",".join(stress_pictures.KINDS),
+                   help="picture kinds to draw from, in turn (" + ",".join(stress_pictures.KINDS) + ")")
     p.add_argument("--app-hz", default=",".join(f"{x:g}" for x in APP_HZ_CHOICES), help="app rates to draw from")
     p.add_argument("--unorm-fraction", type=float, default=0.1, help="share of cases with --unorm")
     p.add_argument("--noise-fraction", type=float, default=0.1,
                    help="share of cases with per-frame noise (--noise 0.01-0.08; 0.08 is the noisy scene's)")
     p.add_argument("--generate-only", action="store_true", help="write pictures and traces, run nothing")
-    return p.parse_args(argv)
+    args = p.parse_args(argv)
+    unknown = [k for k in args.pictures.split(",") if k not in stress_pictures.KINDS]
+    if unknown or not args.pictures:
+        p.error(f"--pictures: unknown kind(s) {','.join(unknown)}; the kinds: {','.join(stress_pictures.KINDS)}")
+    return args
 
 
 def draw_case(seed, index, args):
     """Everything about case `index`: its own Generator, so cases do not depend on each other."""
     rng = np.random.default_rng([seed, index])
-    picture_kinds = list(stress_pictures.KINDS)
+    picture_kinds = [k for k in stress_pictures.KINDS if k in args.pictures.split(",")]  # in KINDS's order
     motion_kinds = stress_motion.KINDS
     # Stratified: the kinds take turns (offset per seed), the rest is drawn.
     picture = picture_kinds[(index + seed) % len(picture_kinds)]
-    motion = motion_kinds[(index // len(picture_kinds) + index + 3 * seed) % len(motion_kinds)]
+    motion = motion_kinds[(index // len(stress_pictures.KINDS) + index + 3 * seed) % len(motion_kinds)]
     scenes = [s for s in args.scenes.split(",") if s]
     weights = np.array([SCENE_WEIGHTS.get(s, OPT_IN_SCENE_WEIGHTS.get(s, 0.1)) for s in scenes])
     scene = str(rng.choice(scenes, p=weights / weights.sum()))

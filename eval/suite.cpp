@@ -57,6 +57,23 @@ int indexOf(const std::vector<Variant>& variants, const std::string& name) {
   return -1;
 }
 
+// --write-frames: frame f's left-eye truth and each method's output (those that ran) as PNGs in dir.
+bool writeFrames(const std::string& dir, int f, const Image& truth, const std::vector<Variant>& variants,
+                 const std::vector<std::array<Image, 2>>& outputs, std::string* error) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  const std::string suffix = "_" + std::to_string(f) + ".png";
+  if (ec || !savePng(dir + "/gt" + suffix, truth, error)) {
+    if (ec) *error = dir + ": " + ec.message();
+    return false;
+  }
+  for (size_t vi = 0; vi < variants.size(); ++vi) {
+    if (!outputs[vi][0].empty() && !savePng(dir + "/" + variants[vi].name + suffix, outputs[vi][0], error))
+      return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 int runSuite(const Options& o) {
@@ -423,6 +440,11 @@ int runSuite(const Options& o) {
         char name[32];
         std::snprintf(name, sizeof(name), "/frame_%03d.png", f);
         writeAnimationFrame(o.outDir + "/anim/" + sc.label + name, tiles, animationWindow, &error);
+      }
+      if (o.writeFramesEvery > 0 && f % o.writeFramesEvery == 0 &&
+          !writeFrames(o.outDir + "/frames/" + sc.label, f, ft.gt[0], variants, frameOut, &error)) {
+        std::cerr << "steadyxr-eval: --write-frames: " << error << "\n";
+        return 1;
       }
       for (size_t vi = 0; vi < variants.size(); ++vi) {
         if (!frameOut[vi][0].empty()) lastOut[vi] = std::move(frameOut[vi]);

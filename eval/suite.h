@@ -33,6 +33,7 @@ struct Options {
   bool mipmaps = true;  // trilinear mipmapped textures; false: the base level only (worst case)
   bool corpus = false;  // every motion preset x the corpus pictures and scenes (corpus.h)
   std::string animate;  // case label to write an animated comparison of ("" = none; corpus: none)
+  int writeFramesEvery = 0;  // > 0: every Nth frame's left-eye truth and outputs as PNG (frames/CASE/)
   bool sweeps = true;
   bool progress = true;
   bool validation = false;

@@ -119,6 +119,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->historyFilter = value != 0.0f ? core::HistoryFilter::CatmullRom : core::HistoryFilter::Bilinear;
     else if (key == "fpenc")
       params->steadyFootprintEncoded = value != 0.0f;
+    else if (key == "blurnoise")  // round 26: the blur guard traded against the render's noise
+      params->steadyBlurNoiseTrade = value != 0.0f;
     else if (key == "bluraxis")
       params->steadyHistoryBlurPerAxis = value != 0.0f;
     else if (key == "floor")  // steady's ablation switches and constants (core::Params)
@@ -181,7 +183,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       *error =
           "unknown parameter '" + key +
           "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, tapcurv, sclip, d, catmull, floor, conf, "
-          "reject, boxcur, curvbox, curvkappa, clip, blur, footprint, fpenc, bluraxis, jrecentre, near, "
+          "reject, boxcur, curvbox, curvkappa, clip, blur, blurnoise, footprint, fpenc, bluraxis, jrecentre, "
+          "near, "
           "interp, curvcentre, curvgate, curvinner, quantsrgb, noiseest, noisetime, noisechange, gain, "
           "noisevar, "
           "history=16|8, "

@@ -20,6 +20,7 @@ const float kIecSlopeScale2 = (2.4 / 1.055) * (2.4 / 1.055);  // the sRGB curve'
 // and 16 history texels, in the pass, tripled its registers for every pixel (RADV's compiler: 60 -> 137
 // VGPRs, a quarter of the waves per SIMD), for the one pixel in 16 that samples.
 const bool kNoiseAware = kMode == 4 && (kSteadyBoxSwitches & 8) != 0;
+const bool kBlurNoiseTrade = kNoiseAware && (kSteadyBoxSwitches & 1024) != 0;  // round 26: bit 10
 const int kNoiseBins = 64;
 const int kNoiseHistograms = 2;
 const int kResidualSums = 2;  // after the histograms (round 15)
@@ -485,7 +486,22 @@ void processPixel(ivec2 p, ivec2 o) {
     // axis counted for both (Params::steadyHistoryBlurPerAxis); else summed over the axes.
     float v = P.steadyHistoryBlurPerAxis > 0.5 ? 2.0 * max(axisBlur.x, axisBlur.y) : axisBlur.x + axisBlur.y;
     float blur = v * P.steadyInvBlurBudgetPx2;
-    a = max(a, blur / (blur + 1.0));        // steady-state blur (1 - a) / a * v <= budget
+    float guardAlpha = blur / (blur + 1.0);  // steady-state blur (1 - a) / a * v <= budget
+    // Params::steadyBlurNoiseTrade (round 26): in a noisy render, per axis, the alpha that minimises the
+    // exponential mean's noise plus its blur's bias on the luma's curvature; never above the guard's.
+    const float noiseLuma2 = 0.375 * P.steadyNoiseVariance;  // (R + 2G + B) / 4 of i.i.d. RGB noise
+    if (kBlurNoiseTrade && noiseLuma2 > 0.0) {
+      const vec3 centre2 = 2.0 * blockAt(o, 0, 0);
+      const vec2 curvature = vec2(toYCoCg(blockAt(o, -1, 0) + blockAt(o, 1, 0) - centre2).x,
+                                  toYCoCg(blockAt(o, 0, -1) + blockAt(o, 0, 1) - centre2).x);
+      const vec2 signalCurvature = sqrt(max(curvature * curvature - 6.0 * noiseLuma2, vec2(0.0)));
+      vec2 tradeAlpha = pow(axisBlur * signalCurvature * inversesqrt(noiseLuma2), vec2(2.0 / 3.0));
+      tradeAlpha = max(tradeAlpha, axisBlur / (axisBlur + 0.25));  // the blur's 2 sigma within the 3x3
+      const vec2 axisGuard = 2.0 * axisBlur * P.steadyInvBlurBudgetPx2;
+      const vec2 axisAlpha = min(axisGuard / (axisGuard + 1.0), tradeAlpha);
+      guardAlpha = max(axisAlpha.x, axisAlpha.y);
+    }
+    a = max(a, guardAlpha);
     a = P.steadyConfidence > 0.5 ? a : P.taaAlpha;  // ablation: constant alpha
     a = confirmed ? a : 1.0;
     cur = fc;

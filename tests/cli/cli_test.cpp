@@ -318,6 +318,7 @@ TEST_F(Cli, EverythingItWritesTheLayerAccepts) {
                                                    {"steady_interpolated", "1"},
                                                    {"steady_footprint_encoded", "off"},
                                                    {"steady_history_blur_per_axis", "off"},
+                                                   {"steady_blur_noise_trade", "off"},
                                                    {"steady_clip_holds_current", "on"},
                                                    {"steady_noise_estimate", "on"},
                                                    {"steady_noise_residual_over_time", "0"},

@@ -105,13 +105,17 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   // steady_noise_test.cpp); here the pass is given it: none (a clean render), or told (noisetold).
   p.steadyNoiseEstimate = false;
   p.steadyGainCompensation = false;  // round 16's frame gain: steady_gain_test.cpp
-  if (variant == "noisetold") p.steadyNoiseVariance = 0.05f * 0.05f / 3.0f;  // the frames' own noise
+  if (variant == "noisetold" || variant == "noisetrade" || variant == "noisetradesway")
+    p.steadyNoiseVariance = 0.05f * 0.05f / 3.0f;  // the frames' own noise
+  // Round 26: the blur guard traded against that noise (the default), under the default motion and a sway;
+  // noisetold keeps the guard alone (steadyBlurNoiseTrade off, the default before round 26).
+  if (variant == "noisetold") p.steadyBlurNoiseTrade = false;
   if (variant == "catmull") p.historyFilter = HistoryFilter::CatmullRom;
   if (variant == "linearfootprint") p.steadyFootprintEncoded = false;
   if (variant == "summedblur" || variant == "swaysummed") p.steadyHistoryBlurPerAxis = false;
   // A sway: the head turns about 0.5 px a frame along x only, where the blur guard per axis and the
   // summed one disagree most (the blurrier axis counted twice against it counted once).
-  const bool sway = variant == "sway" || variant == "swaysummed";
+  const bool sway = variant == "sway" || variant == "swaysummed" || variant == "noisetradesway";
   const float yawStep = sway ? 0.8f : 0.35f, pitchStep = sway ? 0.0f : -0.2f;
   const glm::vec3 moveStep = sway ? glm::vec3(0.0f) : glm::vec3(0.004f, 0.0f, 0.002f);
   if (variant == "interpolated") p.steadyInterpolated = true;
@@ -152,7 +156,9 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   Rig rig(W, H, srgbInput ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R16G16B16A16_SFLOAT);
   std::array<HostImage, 2> hist;
   std::array<RefView, 2> prev;
-  for (int k = 0; k < 4; ++k) {
+  // The noise trade acts where the blur guard binds, once the count's alpha is near its floor: 12 frames.
+  const int frames = variant == "noisetrade" || variant == "noisetradesway" ? 12 : 4;
+  for (int k = 0; k < frames; ++k) {
     Frame fr;
     fr.color = {pattern(W, H, 20 + k, 0.05f), pattern(W, H, 30 + k, 0.05f)};
     for (auto& img : fr.color)  // a patch moving 3 px a frame over the static pattern
@@ -181,8 +187,12 @@ TEST_P(SteadyReference, MatchesCpuReference) {
       const Diff d = compare(out[e], want);
       // Tolerance as in TemporalReference (8 sub-texel bits of GPU bilinear weights, half
       // precision), over a chain of frames; few pixels sit on a clip decision boundary.
-      EXPECT_LE(d.meanAbs, 2e-3f) << variant << " frame " << k << " eye " << e;
-      EXPECT_LE(d.maxAbs, 0.05f) << variant << " frame " << k << " eye " << e;
+      // The noise trade's variants are held closer: on lavapipe they match to 2.4e-4 on average and 2e-3 at
+      // most; its alpha's exponent 1/3, no reach bound, or the noise left in c'' each put 5e-4 to 9e-4 on
+      // average and 0.023 to 0.049 at most (round 26, planted).
+      const bool trade = frames > 4;
+      EXPECT_LE(d.meanAbs, trade ? 4e-4f : 2e-3f) << variant << " frame " << k << " eye " << e;
+      EXPECT_LE(d.maxAbs, trade ? 0.01f : 0.05f) << variant << " frame " << k << " eye " << e;
       if (k > 0) {
         EXPECT_GT(compare(out[e], fr.color[e]).meanAbs, 5e-3f) << variant << ": the history is used";
       }
@@ -197,7 +207,8 @@ INSTANTIATE_TEST_SUITE_P(Variants, SteadyReference,
                                            "swaysummed", "interpolated", "rejectnoblur", "constant", "depth",
                                            "wideclip", "jitter", "jitterraw", "clipholdscurrent", "nocurvbox",
                                            "nocurvboxjitter", "nocurvcentred", "nocurvcentredjitter",
-                                           "curvgate", "srgbinput", "srgbinputlinearfloor", "noisetold"));
+                                           "curvgate", "srgbinput", "srgbinputlinearfloor", "noisetold",
+                                           "noisetrade", "noisetradesway"));
 
 namespace {
 // Pixels of `a` farther than `tolerance` from `b` in any channel.

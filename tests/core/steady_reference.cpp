@@ -204,7 +204,26 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
           const vec2 f = texel - glm::floor(texel);
           const float vx = f.x * (1.0f - f.x), vy = f.y * (1.0f - f.y);
           const float v = p.steadyHistoryBlurPerAxis ? 2.0f * std::max(vx, vy) : vx + vy;
-          alpha = std::max(alpha, v / (v + p.steadyBlurBudgetPx2));
+          float guard = v / (v + p.steadyBlurBudgetPx2);
+          if (p.steadyBlurNoiseTrade && p.steadyHistoryBlurPerAxis && noiseVar.x > 0.0f) {
+            // Round 26, per axis: an exponential mean of weight alpha holds alpha / (2 - alpha) of the
+            // frames' noise variance s2 (its luma's, noiseVar.x) and, blurred by B = (1 - alpha) / alpha * w
+            // (w this frame's tap blur on the axis), is off a curved signal by B c'' / 2. For small alpha
+            // the sum s2 alpha / 2 + (w c'' / (2 alpha))^2 is least where its derivative
+            // s2 / 2 - w^2 c''^2 / (2 alpha^3) is 0: alpha = cbrt(w^2 c''^2 / s2). c''^2 is the luma's
+            // second difference squared less its noise, (1 + 4 + 1) s2; B at most 1/4 px^2, where two
+            // of its standard deviations reach the 3x3's edge; never above the axis's own guard, which
+            // holds B to half the budget.
+            guard = 0.0f;
+            const float axisBlur[2] = {vx, vy}, curvature[2] = {cxx.x, cyy.x};
+            for (int axis = 0; axis < 2; ++axis) {
+              const float w = axisBlur[axis];
+              const float signal2 = std::max(curvature[axis] * curvature[axis] - 6.0f * noiseVar.x, 0.0f);
+              const float least = std::max(std::cbrt(w * w * signal2 / noiseVar.x), w / (w + 0.25f));
+              guard = std::max(guard, std::min(least, w / (w + 0.5f * p.steadyBlurBudgetPx2)));
+            }
+          }
+          alpha = std::max(alpha, guard);
         }
         if (!p.steadyConfidence) alpha = p.taaAlpha;
         result = glm::max(fromYCoCg(glm::mix(clipped, toYCoCg(area), alpha)), vec3(0));

@@ -15,7 +15,8 @@ exe, out, plot = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(out, ignore_errors=True)
 cmd = [exe, "--out", out, "--resolution", "48x48", "--frames", "4", "--gt-grid", "2", "--warp-steps", "2",
        "--scenes", "imageviewer,moving", "--motions", "fixation", "--images", "astronaut",
-       "--methods", "none,msaa4,taa,taa+jitter,hmtaa+stereo,default,oracle,oracle+jitter,hmtaa@hmax=10", "--no-progress"]
+       "--methods", "none,msaa4,taa,taa+jitter,hmtaa+stereo,default,oracle,oracle+jitter,hmtaa@hmax=10", "--no-progress",
+       "--write-frames", "2"]
 res = run_eval(cmd)
 assert "== imageviewer-fixation-astronaut" in res.stdout, "table missing"
 
@@ -54,6 +55,7 @@ shutil.rmtree(alone, ignore_errors=True)
 cmd_alone = list(cmd)
 cmd_alone[cmd.index("--out") + 1] = alone
 cmd_alone[cmd.index("--methods") + 1] = "none,oracle"
+cmd_alone = cmd_alone[:cmd_alone.index("--write-frames")]
 run_eval(cmd_alone, tail=2000)
 with open(os.path.join(alone, "results.csv"), newline="") as f:
     alone_oracle = [r for r in csv.DictReader(f) if r["method"] == "oracle"]
@@ -75,6 +77,34 @@ crops = os.listdir(os.path.join(out, "crops"))
 assert sc + ".png" in crops and sc + "_worst.png" in crops, crops
 anim = os.listdir(os.path.join(out, "anim", sc))
 assert len(anim) == 4 and all(a.endswith(".png") for a in anim), anim
+
+# --write-frames 2: frames 0 and 2 of the left eye, the truth and every method's output. Each written output's RMSE against the written truth is
+# the run's own for that frame (timeseries.csv averages both eyes: within 10 %).
+frames = sorted(os.listdir(os.path.join(out, "frames", sc)))
+methods_written = ["none", "msaa4", "taa", "taa+jitter", "hmtaa+stereo", "default", "oracle", "oracle+jitter",
+                   "hmtaa@hmax=10"]
+assert frames == sorted(f"{m}_{f}.png" for m in ["gt"] + methods_written for f in (0, 2)), frames
+try:
+    from PIL import Image
+except ImportError:
+    Image = None
+    print("PIL not installed: the written frames' pixels not checked")
+if Image is not None:
+    with open(os.path.join(out, "timeseries.csv"), newline="") as f:
+        series = {(r["scenario"], r["method"], r["frame"]): float(r["rmse"]) for r in csv.DictReader(f)}
+
+    def pixels(name):
+        im = Image.open(os.path.join(out, "frames", sc, name)).convert("RGB")
+        assert im.size == (48, 48), (name, im.size)
+        return list(im.getdata())
+
+    for fr in (0, 2):
+        truth = pixels(f"gt_{fr}.png")
+        for m in methods_written:
+            got = pixels(f"{m}_{fr}.png")
+            sq = sum((a - b) ** 2 for p, q in zip(got, truth) for a, b in zip(p, q)) / (3 * len(truth))
+            rmse, want = math.sqrt(sq) / 255.0, series[(sc, m, str(fr))]
+            assert abs(rmse - want) <= 0.1 * want, f"{m} frame {fr}: written RMSE {rmse:.5f}, run's {want:.5f}"
 
 # Charts (skipped, not failed, where matplotlib is missing entirely).
 res = subprocess.run([sys.executable, plot, out], capture_output=True, text=True, timeout=120)

@@ -123,4 +123,28 @@ for i in range(18, 60):
     assert abs(np.hypot(fx, fy) - p["f"]) < 1.5 * sp.OVERSAMPLE / min(w, h), (np.hypot(fx, fy), p)
     found += 1
 assert found >= 3, "too few sine gratings drawn to check"
+
+# 8. --pictures: the kinds take turns among those named (in KINDS's order), every other draw as without it;
+#    without it every kind takes its turn, so earlier seeds draw what they drew.
+import contextlib  # noqa: E402
+import io  # noqa: E402
+
+import stress  # noqa: E402
+
+every, some = stress.parse_args(["--eval", "x", "--out", "y"]), stress.parse_args(
+    ["--eval", "x", "--out", "y", "--pictures", "text,lines"])
+drawn = [stress.draw_case(61, i, every)["picture_kind"] for i in range(len(sp.KINDS))]
+assert sorted(drawn) == sorted(sp.KINDS) and drawn[0] == list(sp.KINDS)[61 % len(sp.KINDS)], drawn
+named = [stress.draw_case(61, i, some) for i in range(6)]
+assert [c["picture_kind"] for c in named] == ["text", "lines"] * 3, named  # KINDS has lines before text; 61 is odd
+plain = stress.draw_case(61, 4, every)
+assert {k: v for k, v in named[4].items() if k not in ("picture_kind", "rng")} == \
+    {k: v for k, v in plain.items() if k not in ("picture_kind", "rng")}
+with contextlib.redirect_stderr(io.StringIO()) as err:
+    try:
+        stress.parse_args(["--eval", "x", "--out", "y", "--pictures", "lines,photos"])
+        raise AssertionError("--pictures photos accepted")
+    except SystemExit as e:
+        assert e.code == 2
+assert "unknown kind(s) photos" in err.getvalue(), err.getvalue()
 print("stress generator OK")

@@ -130,6 +130,7 @@ TEST(Config, SteadyKeys) {
           "steady_footprint = 0\nsteady_nearest_depth_m = 2\nsteady_confidence = off\n"
           "steady_clip_rejects = on\nsteady_interpolated = 1\nsteady_clip_gamma = 0.75\n"
           "steady_footprint_encoded = off\nsteady_history_blur_per_axis = off\nsteady_output_hold = 0.5\n"
+          "steady_blur_noise_trade = off\n"
           "steady_clip_holds_current = on\nsteady_clip_curvature = off\n"
           "steady_clip_curvature_centred = off\nsteady_clip_curvature_centred_gated = on\n"
           "steady_clip_quant_srgb = off\nsteady_noise_estimate = on\nsteady_noise_residual_over_time = off\n"
@@ -151,6 +152,7 @@ TEST(Config, SteadyKeys) {
   EXPECT_FLOAT_EQ(c.params.steadyClipGamma, 0.75f);
   EXPECT_FALSE(c.params.steadyFootprintEncoded);
   EXPECT_FALSE(c.params.steadyHistoryBlurPerAxis);
+  EXPECT_FALSE(c.params.steadyBlurNoiseTrade);  // on by default: off here shows the key is read
   EXPECT_FLOAT_EQ(c.params.steadyOutputHold, 0.5f);
   EXPECT_TRUE(c.params.steadyClipHoldsCurrent);
   EXPECT_FALSE(c.params.steadyClipCurvature);             // on by default: off here shows the key is read

@@ -30,6 +30,10 @@ using namespace steadyxr::core;
 
 namespace {
 
+// @noisetold: a render noise of 0.02 standard deviation per linear RGB channel (the stress draws' noise
+// amplitudes, 0.01-0.08, are uniform: a standard deviation of 0.58x that).
+constexpr float kToldNoiseVariance = 0.02f * 0.02f;
+
 struct Options {
   std::vector<VkExtent2D> sizes{{1024, 1024}, {1440, 1600}, {2064, 2208}};
   std::vector<std::string> methods{"none", "fxaa", "taa", "hmtaa", "vtaa", "hybrid", "stereo", "default"};
@@ -62,6 +66,9 @@ void usage() {
                "(steadyNoiseEstimate; the default since round 15); @gain=0: without the frame's gain\n"
                "probe and its compensation (steadyGainCompensation; the default since round 16);\n"
                "@hold=0: the 8-bit output rounded, not held (steadyOutputHold; held since round 20).\n"
+               "@noisetold: the render's noise told (0.02^2 a channel), not estimated: the passes act\n"
+               "on it in every pixel of the clean pattern; @blurnoise, @blurnoise=0: round 26's blur\n"
+               "guard traded against that noise, or not (steadyBlurNoiseTrade).\n"
                "--pipelines: after each method, the pipelines it used as PASS:STORAGE:SPECIALISATION,\n"
                "the arguments of steadyxr-shader-stats (registers and instructions on a GPU's compiler).\n";
 }
@@ -300,6 +307,13 @@ std::optional<Params> methodParams(const std::string& spec) {
       params->steadyGainCompensation = false;
     else if (suffix == "hold=0")  // the default with plain rounding (the default before round 20)
       params->steadyOutputHold = 0.0f;
+    else if (suffix == "noisetold") {  // the noise told, not estimated: the pass acts on it everywhere
+      params->steadyNoiseEstimate = false;
+      params->steadyNoiseVariance = kToldNoiseVariance;
+    } else if (suffix == "blurnoise")  // round 26: the blur guard traded against the noise (with noisetold)
+      params->steadyBlurNoiseTrade = true;
+    else if (suffix == "blurnoise=0")
+      params->steadyBlurNoiseTrade = false;
     else
       return std::nullopt;
   }

@@ -275,7 +275,9 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
                 (sw.probe ? 128 : 0) | (params.steadyGainCompensation ? 64 : 0) |
                 (params.steadyGainCompensation && !sw.probe && params.steadyGainRelightsAdmitted ? 256 : 0) |
                 // Round 20: the 8-bit output held (storeHeldOutput), where the pass binds the codes.
-                (d.io.shownOut != VK_NULL_HANDLE ? 512 : 0)
+                (d.io.shownOut != VK_NULL_HANDLE ? 512 : 0) |
+                // Round 26: the blur guard traded against the render's noise (per axis, with bit 8).
+                (params.steadyBlurNoiseTrade && params.steadyHistoryBlurPerAxis ? 1024 : 0)
           : 0};
 }
 

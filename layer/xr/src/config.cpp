@@ -115,6 +115,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_interpolated", &core::Params::steadyInterpolated},
     {"steady_footprint_encoded", &core::Params::steadyFootprintEncoded},
     {"steady_history_blur_per_axis", &core::Params::steadyHistoryBlurPerAxis},
+    {"steady_blur_noise_trade", &core::Params::steadyBlurNoiseTrade},
     {"steady_clip_holds_current", &core::Params::steadyClipHoldsCurrent},
     {"steady_clip_curvature", &core::Params::steadyClipCurvature},
     {"steady_clip_curvature_centred", &core::Params::steadyClipCurvatureCentred},

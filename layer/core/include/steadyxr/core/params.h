@@ -238,6 +238,16 @@ struct Params {
   // above 1.10x against 2), mean RMSE 67.6 % of none's against 68.3 %, 97 cases at or below the
   // better taa against 93; thin geometry 69.7 % of none's against 68.0 %. Off: summed (ablation).
   bool steadyHistoryBlurPerAxis = true;
+  // Issue 14 round 26 (with the guard per axis, where the render's noise s^2 per RGB channel is estimated
+  // or told): the guard above gives way, per axis, to the alpha that minimises the steady-state error of
+  // the exponential mean, its noise alpha/(2 - alpha) s_Y^2 plus the bias (B c''/2)^2 of a blur of
+  // variance B = (1 - alpha)/alpha f(1 - f) on the luma's curvature c'': to first order in alpha,
+  // alpha^3 = (f(1 - f) c'' / s_Y)^2. c'' is the 3x3's second difference with the noise's share (6 s_Y^2:
+  // weights 1, -2, 1) taken out of its square; s_Y^2 = 3/8 s^2, the luma's share. The 3x3 vouches for
+  // c'' within one pixel of the centre, so the blur's two standard deviations stay within it (B <= 1/4 px^2
+  // per axis), and the alpha is never above the guard's. A clean render (s = 0) keeps the guard.
+  // Measured: README item 12 (all-noisy held-out draws 2-3 % lower RMSE; the content grid unchanged).
+  bool steadyBlurNoiseTrade = true;
   // The current frame's estimate of the pixel's area average (the ground truth of a pixel; a
   // lone centre sample aliases): its 3x3 through [k, 1 - 2k, k] per axis. k = 1/24 gives the
   // filter the second moment of the pixel's own box footprint, 2k = 1/12 px^2 (the box average of
