@@ -409,10 +409,14 @@ void processPixel(ivec2 p, ivec2 o) {
     // Params::steadyClipCurvature (the default): the box no wider than kappa (|cxx| + |cyy|),
     // the largest offset of a reprojected static history from the 3x3 mean that is second order
     // in the signal; a lag (first order) beyond it is clipped, and rejected by the clip's t^2.
-    if (P.steadyClipCurvatureKappa > 0.0) {
+    // The 3x3's second differences along x and y in YCoCg: for the curvature box and item 12's trade.
+    vec3 cxx = vec3(0.0), cyy = vec3(0.0);
+    if (P.steadyClipCurvatureKappa > 0.0 || kBlurNoiseTrade) {
       const vec3 centre2 = 2.0 * blockAt(o, 0, 0);
-      const vec3 cxx = toYCoCg(blockAt(o, -1, 0) + blockAt(o, 1, 0) - centre2);
-      const vec3 cyy = toYCoCg(blockAt(o, 0, -1) + blockAt(o, 0, 1) - centre2);
+      cxx = toYCoCg(blockAt(o, -1, 0) + blockAt(o, 1, 0) - centre2);
+      cyy = toYCoCg(blockAt(o, 0, -1) + blockAt(o, 0, 1) - centre2);
+    }
+    if (P.steadyClipCurvatureKappa > 0.0) {
       const vec3 curvSum = abs(cxx) + abs(cyy);
       // Params::steadyClipCurvatureCentred (the default): per axis a static history lies
       // -s c'' from the 3x3 mean, s in [inner, kappa]: on one side. The box is that interval
@@ -491,9 +495,7 @@ void processPixel(ivec2 p, ivec2 o) {
     // exponential mean's noise plus its blur's bias on the luma's curvature; never above the guard's.
     const float noiseLuma2 = 0.375 * P.steadyNoiseVariance;  // (R + 2G + B) / 4 of i.i.d. RGB noise
     if (kBlurNoiseTrade && noiseLuma2 > 0.0) {
-      const vec3 centre2 = 2.0 * blockAt(o, 0, 0);
-      const vec2 curvature = vec2(toYCoCg(blockAt(o, -1, 0) + blockAt(o, 1, 0) - centre2).x,
-                                  toYCoCg(blockAt(o, 0, -1) + blockAt(o, 0, 1) - centre2).x);
+      const vec2 curvature = vec2(cxx.x, cyy.x);  // the luma's
       const vec2 signalCurvature = sqrt(max(curvature * curvature - 6.0 * noiseLuma2, vec2(0.0)));
       vec2 tradeAlpha = pow(axisBlur * signalCurvature * inversesqrt(noiseLuma2), vec2(2.0 / 3.0));
       tradeAlpha = max(tradeAlpha, axisBlur / (axisBlur + 0.25));  // the blur's 2 sigma within the 3x3
