@@ -183,11 +183,9 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       *error =
           "unknown parameter '" + key +
           "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, tapcurv, sclip, d, catmull, floor, conf, "
-          "reject, boxcur, curvbox, curvkappa, clip, blur, blurnoise, footprint, fpenc, bluraxis, jrecentre, "
-          "near, "
-          "interp, curvcentre, curvgate, curvinner, quantsrgb, noiseest, noisetime, noisechange, gain, "
-          "noisevar, "
-          "history=16|8, "
+          "reject, boxcur, curvbox, curvkappa, clip, blur, blurnoise, footprint, fpenc, bluraxis, "
+          "jrecentre, near, interp, curvcentre, curvgate, curvinner, quantsrgb, noiseest, noisetime, "
+          "noisechange, gain, noisevar, history=16|8, "
           "dither after history=8)";
       return false;
     }

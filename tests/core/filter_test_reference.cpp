@@ -105,10 +105,10 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   // steady_noise_test.cpp); here the pass is given it: none (a clean render), or told (noisetold).
   p.steadyNoiseEstimate = false;
   p.steadyGainCompensation = false;  // round 16's frame gain: steady_gain_test.cpp
-  if (variant == "noisetold" || variant == "noisetrade" || variant == "noisetradesway")
-    p.steadyNoiseVariance = 0.05f * 0.05f / 3.0f;  // the frames' own noise
   // Round 26: the blur guard traded against that noise (the default), under the default motion and a sway;
   // noisetold keeps the guard alone (steadyBlurNoiseTrade off, the default before round 26).
+  const bool trade = variant == "noisetrade" || variant == "noisetradesway";
+  if (variant == "noisetold" || trade) p.steadyNoiseVariance = 0.05f * 0.05f / 3.0f;  // the frames' own noise
   if (variant == "noisetold") p.steadyBlurNoiseTrade = false;
   if (variant == "catmull") p.historyFilter = HistoryFilter::CatmullRom;
   if (variant == "linearfootprint") p.steadyFootprintEncoded = false;
@@ -157,7 +157,7 @@ TEST_P(SteadyReference, MatchesCpuReference) {
   std::array<HostImage, 2> hist;
   std::array<RefView, 2> prev;
   // The noise trade acts where the blur guard binds, once the count's alpha is near its floor: 12 frames.
-  const int frames = variant == "noisetrade" || variant == "noisetradesway" ? 12 : 4;
+  const int frames = trade ? 12 : 4;
   for (int k = 0; k < frames; ++k) {
     Frame fr;
     fr.color = {pattern(W, H, 20 + k, 0.05f), pattern(W, H, 30 + k, 0.05f)};
@@ -190,7 +190,6 @@ TEST_P(SteadyReference, MatchesCpuReference) {
       // The noise trade's variants are held closer: on lavapipe they match to 2.4e-4 on average and 2e-3 at
       // most; its alpha's exponent 1/3, no reach bound, or the noise left in c'' each put 5e-4 to 9e-4 on
       // average and 0.023 to 0.049 at most (round 26, planted).
-      const bool trade = frames > 4;
       EXPECT_LE(d.meanAbs, trade ? 4e-4f : 2e-3f) << variant << " frame " << k << " eye " << e;
       EXPECT_LE(d.maxAbs, trade ? 0.01f : 0.05f) << variant << " frame " << k << " eye " << e;
       if (k > 0) {

@@ -78,8 +78,9 @@ assert sc + ".png" in crops and sc + "_worst.png" in crops, crops
 anim = os.listdir(os.path.join(out, "anim", sc))
 assert len(anim) == 4 and all(a.endswith(".png") for a in anim), anim
 
-# --write-frames 2: frames 0 and 2 of the left eye, the truth and every method's output. Each written output's RMSE against the written truth is
-# the run's own for that frame (timeseries.csv averages both eyes: within 10 %).
+# --write-frames 2: frames 0 and 2 of the left eye, the truth and every method's output. Each written
+# output's RMSE against the written truth is the run's own for that frame (timeseries.csv averages both
+# eyes: within 10 %).
 frames = sorted(os.listdir(os.path.join(out, "frames", sc)))
 methods_written = ["none", "msaa4", "taa", "taa+jitter", "hmtaa+stereo", "default", "oracle", "oracle+jitter",
                    "hmtaa@hmax=10"]
