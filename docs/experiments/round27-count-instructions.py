@@ -39,7 +39,7 @@ TOTALS = re.compile(r"^totals:\s+(\d+)", re.M)
 
 
 def count(bench, size, methods, frames, shader_cache):
-    """(the bench's thread, every other thread): instructions callgrind counted in one bench run."""
+    """The instructions callgrind counted off the bench's own thread in one bench run (lavapipe's threads)."""
     # Without the shader disk cache llvmpipe compiles every shader at its first dispatch, on the queue thread; with it,
     # only what no earlier run left in Mesa's cache, and the two runs of a difference must both compile or both not.
     env = dict(os.environ, LP_NUM_THREADS="0")
@@ -67,12 +67,12 @@ def count(bench, size, methods, frames, shader_cache):
                 others += int(found.group(1))
         if bench_thread == 0 or others == 0:
             sys.exit(f"count_instructions: expected the bench's thread and lavapipe's, callgrind wrote {names}")
-        return bench_thread, others
+        return others
 
 
 def per_frame(args, methods, first, last):
     """The passes' instructions per frame: the difference of two runs over their frames."""
-    runs = [count(args.bench, args.size, methods, n, args.shader_cache)[1] for n in (first, last)]
+    runs = [count(args.bench, args.size, methods, n, args.shader_cache) for n in (first, last)]
     return (runs[1] - runs[0]) / (last - first)
 
 
