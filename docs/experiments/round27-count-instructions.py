@@ -38,7 +38,7 @@ LAVAPIPE_ICD = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json"
 TOTALS = re.compile(r"^totals:\s+(\d+)", re.M)
 
 
-def count(bench, size, methods, frames, shader_cache):
+def count(bench, size, methods, frames, shader_cache, bench_input):
     """The instructions callgrind counted off the bench's own thread in one bench run (lavapipe's threads)."""
     # Without the shader disk cache llvmpipe compiles every shader at its first dispatch, on the queue thread; with it,
     # only what no earlier run left in Mesa's cache, and the two runs of a difference must both compile or both not.
@@ -50,7 +50,7 @@ def count(bench, size, methods, frames, shader_cache):
     with tempfile.TemporaryDirectory() as out:
         cmd = ["valgrind", "--tool=callgrind", "--separate-threads=yes", f"--callgrind-out-file={out}/threads",
                bench, "--sizes", size, "--methods", ",".join(methods), "--iterations", str(frames),
-               "--warmup", "0"]
+               "--warmup", "0", "--input", bench_input]
         run = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=3600)
         if run.returncode != 0:
             sys.exit(f"count_instructions: '{' '.join(cmd)}' failed (exit {run.returncode}):\n{run.stderr[-2000:]}")
@@ -72,7 +72,7 @@ def count(bench, size, methods, frames, shader_cache):
 
 def per_frame(args, methods, first, last):
     """The passes' instructions per frame: the difference of two runs over their frames."""
-    runs = [count(args.bench, args.size, methods, n, args.shader_cache) for n in (first, last)]
+    runs = [count(args.bench, args.size, methods, n, args.shader_cache, args.input) for n in (first, last)]
     return (runs[1] - runs[0]) / (last - first)
 
 
@@ -87,6 +87,9 @@ def main():
                          "frame has no history and takes another path)")
     ap.add_argument("--shader-cache", action="store_true",
                     help="leave Mesa's shader disk cache on (round 27's figures: every shader already in it)")
+    ap.add_argument("--input", default="picture", choices=["picture", "flat"],
+                    help="the bench's eye images (round 28; round 27's figures were taken with the only input "
+                         "there was then, flat)")
     ap.add_argument("--repeat-copy", action="store_true",
                     help="measure the copy twice and print how far apart the two counts are")
     args = ap.parse_args()

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_input.h"
 #include "steadyxr/core/filter.h"
 #include "steadyxr/core/params.h"
 #include "steadyxr/core/vulkan_context.h"
@@ -43,12 +44,21 @@ struct Options {
   bool pipelines = false;                     // print each method's pipelines (for steadyxr-shader-stats)
   VkFormat format = VK_FORMAT_R8G8B8A8_SRGB;  // of the app's input and output images
   InvocationBlock block = InvocationBlock::Auto;
+  bool flatInput = false;  // --input flat: one clear colour instead of the rendered picture
 };
+
+// The head's tremor over the frames: a yaw that steps through kTremorPoses orientations, so that every
+// frame reprojects (bench_input.h renders the picture for each).
+constexpr int kTremorPoses = 7;
+glm::quat tremorOrientation(int frame) {
+  return glm::angleAxis(0.001f * float(frame % kTremorPoses), glm::vec3(0, 1, 0));
+}
+constexpr Fov kBenchFov{-0.8f, 0.75f, 0.78f, -0.82f};
 
 void usage() {
   std::cout << "usage: steadyxr-bench [--sizes WxH[,WxH...]] [--methods m1,m2,...] [--iterations N]\n"
                "                      [--warmup N] [--format srgb8|unorm8|rgba16f] [--csv FILE]\n"
-               "                      [--block auto|1x1|4x4] [--pipelines]\n"
+               "                      [--block auto|1x1|4x4] [--input picture|flat] [--pipelines]\n"
                "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to (measured\n"
                "first and last at each size; the faster of the two is used). A method may end in\n"
                "@history=16 or @history=8 (the history's bits per channel, Params::historyFormat).\n"
@@ -67,8 +77,10 @@ void usage() {
                "probe and its compensation (steadyGainCompensation; the default since round 16);\n"
                "@hold=0: the 8-bit output rounded, not held (steadyOutputHold; held since round 20).\n"
                "@noisetold: the render's noise told (0.02^2 a channel), not estimated: the passes act\n"
-               "on it in every pixel of the clean pattern; @blurnoise, @blurnoise=0: round 26's blur\n"
+               "on it in every pixel; @blurnoise, @blurnoise=0: round 26's blur\n"
                "guard traded against that noise, or not (steadyBlurNoiseTrade).\n"
+               "--input: the eye images, a zone plate rendered for each frame's pose (the default since\n"
+               "round 28: detail, aliasing and chroma, as an app's frames) or one flat colour (before).\n"
                "--pipelines: after each method, the pipelines it used as PASS:STORAGE:SPECIALISATION,\n"
                "the arguments of steadyxr-shader-stats (registers and instructions on a GPU's compiler).\n";
 }
@@ -120,6 +132,10 @@ bool parse(int argc, char** argv, Options* o) {
         return false;
     } else if (a == "--csv") {
       o->csv = next();
+    } else if (a == "--input") {
+      const std::string in = next();
+      if (in != "picture" && in != "flat") return false;
+      o->flatInput = in == "flat";
     } else if (a == "--pipelines") {
       o->pipelines = true;
     } else {
@@ -185,9 +201,8 @@ class Image {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
 };
 
-// Fills an image with a pattern (clear + a few clears of sub-regions, cheap to record) and leaves it
-// in SHADER_READ_ONLY_OPTIMAL.
-void fillInput(VulkanContext& ctx, VkImage image) {
+// --input flat (the bench's input before round 28): one colour everywhere, left in SHADER_READ_ONLY_OPTIMAL.
+void fillFlat(VulkanContext& ctx, VkImage image) {
   VkCommandPoolCreateInfo cpci{};
   cpci.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
   cpci.queueFamilyIndex = ctx.queueFamilyIndex();
@@ -348,13 +363,22 @@ int main(int argc, char** argv) {
   std::vector<Row> rows;
   for (const VkExtent2D size : opt.sizes) {
     const VkImageUsageFlags outUsage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    std::array<std::unique_ptr<Image>, 2> in, out;
-    for (int e = 0; e < 2; ++e) {
-      in[e] = std::make_unique<Image>(*ctx, opt.format, size,
+    std::array<std::unique_ptr<Image>, 2> out;
+    for (auto& o : out)
+      o = std::make_unique<Image>(*ctx, opt.format, size, outUsage, opt.format == VK_FORMAT_R8G8B8A8_SRGB);
+    // One input per tremor pose, both eyes' (the picture lies at infinity: the eyes' offset moves nothing).
+    std::vector<std::unique_ptr<Image>> in(opt.flatInput ? 1 : kTremorPoses);
+    for (size_t k = 0; k < in.size(); ++k) {
+      in[k] = std::make_unique<Image>(*ctx, opt.format, size,
                                       VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, false);
-      out[e] =
-          std::make_unique<Image>(*ctx, opt.format, size, outUsage, opt.format == VK_FORMAT_R8G8B8A8_SRGB);
-      fillInput(*ctx, in[e]->image());
+      if (opt.flatInput) {
+        fillFlat(*ctx, in[k]->image());
+      } else if (!steadyxr::bench::uploadImage(
+                     *ctx, in[k]->image(), opt.format, size,
+                     steadyxr::bench::renderZonePlate(size, kBenchFov, tremorOrientation(int(k))), &err)) {
+        std::cerr << "steadyxr-bench: the input picture: " << err << "\n";
+        return 1;
+      }
     }
     // The floor is measured first and again last at each size, and the faster of the two is
     // used: a copy slowed by a drifting machine (lavapipe's threads still spinning up, say) would
@@ -391,11 +415,10 @@ int main(int argc, char** argv) {
         StereoOutput o;
         f.headSpeedDegPerSec = 4.0f;
         for (int e = 0; e < 2; ++e) {
-          f.views[e].color = in[e]->ref(VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-          // small head tremor so every frame really reprojects
-          f.views[e].pose.orientation = glm::angleAxis(0.001f * float(i % 7), glm::vec3(0, 1, 0));
+          f.views[e].color = in[size_t(i) % in.size()]->ref(VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+          f.views[e].pose.orientation = tremorOrientation(i);
           f.views[e].pose.position = {e == 0 ? -0.032f : 0.032f, 0.0f, 0.0f};
-          f.views[e].fov = {-0.8f, 0.75f, 0.78f, -0.82f};
+          f.views[e].fov = kBenchFov;
           o.views[e] = out[e]->ref(outLayout);
           o.views[e].finalLayout = VK_IMAGE_LAYOUT_GENERAL;
         }
@@ -419,10 +442,8 @@ int main(int argc, char** argv) {
         hostCpu.push_back(h1 - h0);
         if (auto t = filter->lastTimings()) gpu.push_back(t->totalMs);
       }
-      for (int e = 0; e < 2; ++e) {
-        filter->forgetImage(in[e]->image());
-        filter->forgetImage(out[e]->image());
-      }
+      for (const auto& image : in) filter->forgetImage(image->image());
+      for (const auto& image : out) filter->forgetImage(image->image());
       if (opt.pipelines) printPipelines(m, filter->pipelines());
       measured.push_back({median(gpu), minimum(gpu), median(cpu), median(host), median(hostCpu), model});
     }

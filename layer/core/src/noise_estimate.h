@@ -69,8 +69,10 @@ std::array<uint32_t, kNoiseRecordWords> mergeNoiseCopies(const uint32_t* buffer)
 // The bin of one |d| (what the shader computes), for the tests.
 uint32_t noiseBin(float absDetail);
 // The noise variance per linear RGB channel: (median |d| / 0.6745)^2 is the luma's (3/8 of a
-// channel's, for independent channels: Y = R/4 + G/2 + B/4). 0 for a median in bin 0, none for an
-// empty histogram. The median is interpolated within its bin on the log scale.
+// channel's, for independent channels: Y = R/4 + G/2 + B/4). The median is over bins 1 and up (bin 0,
+// no diagonal detail at all, says nothing about noise) and interpolated within its bin on the log
+// scale; none where no sample lies above bin 0 (an empty histogram, a picture of flat areas and
+// axis-aligned edges), so never 0. (NoiseTracker's estimate is 0 only where the fade test sets it.)
 std::optional<float> noiseVarianceFromHistogram(const uint32_t* bins);
 
 // The standard deviation of the detail of noise passed through steady's footprint filter
