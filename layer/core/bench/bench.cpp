@@ -201,52 +201,6 @@ class Image {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
 };
 
-// --input flat (the bench's input before round 28): one colour everywhere, left in SHADER_READ_ONLY_OPTIMAL.
-void fillFlat(VulkanContext& ctx, VkImage image) {
-  VkCommandPoolCreateInfo cpci{};
-  cpci.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-  cpci.queueFamilyIndex = ctx.queueFamilyIndex();
-  VkCommandPool pool;
-  vkCreateCommandPool(ctx.device(), &cpci, nullptr, &pool);
-  VkCommandBufferAllocateInfo cbai{};
-  cbai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-  cbai.commandPool = pool;
-  cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cbai.commandBufferCount = 1;
-  VkCommandBuffer cmd;
-  vkAllocateCommandBuffers(ctx.device(), &cbai, &cmd);
-  VkCommandBufferBeginInfo bi{};
-  bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-  vkBeginCommandBuffer(cmd, &bi);
-  VkImageMemoryBarrier b{};
-  b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
-  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  b.image = image;
-  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-  b.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr,
-                       0, nullptr, 1, &b);
-  const VkClearColorValue base{{0.2f, 0.4f, 0.6f, 1.0f}};
-  const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &base, 1, &range);
-  b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-  b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-  b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
-                       nullptr, 0, nullptr, 1, &b);
-  vkEndCommandBuffer(cmd);
-  VkSubmitInfo si{};
-  si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-  si.commandBufferCount = 1;
-  si.pCommandBuffers = &cmd;
-  vkQueueSubmit(ctx.queue(), 1, &si, VK_NULL_HANDLE);
-  vkQueueWaitIdle(ctx.queue());
-  vkDestroyCommandPool(ctx.device(), pool, nullptr);
-}
-
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];
@@ -371,8 +325,12 @@ int main(int argc, char** argv) {
     for (size_t k = 0; k < in.size(); ++k) {
       in[k] = std::make_unique<Image>(*ctx, opt.format, size,
                                       VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, false);
+      // --input flat: the bench's input before round 28, one colour everywhere.
       if (opt.flatInput) {
-        fillFlat(*ctx, in[k]->image());
+        if (!steadyxr::bench::clearImage(*ctx, in[k]->image(), glm::vec4(0.2f, 0.4f, 0.6f, 1.0f), &err)) {
+          std::cerr << "steadyxr-bench: the flat input: " << err << "\n";
+          return 1;
+        }
       } else if (!steadyxr::bench::uploadImage(
                      *ctx, in[k]->image(), opt.format, size,
                      steadyxr::bench::renderZonePlate(size, kBenchFov, tremorOrientation(int(k))), &err)) {

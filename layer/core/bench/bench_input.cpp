@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <glm/gtc/packing.hpp>
 
 #include "steadyxr/core/vk_handle.h"
@@ -55,6 +56,64 @@ std::vector<glm::vec4> renderZonePlate(VkExtent2D size, const core::Fov& fov, co
   return pixels;
 }
 
+bool fillImage(core::VulkanContext& ctx, VkImage image, const std::function<void(VkCommandBuffer)>& record,
+               std::string* error) {
+  const VkDevice device = ctx.device();
+  VkCommandPoolCreateInfo cpci{};
+  cpci.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+  cpci.queueFamilyIndex = ctx.queueFamilyIndex();
+  VkCommandPool pool = VK_NULL_HANDLE;
+  if (vkCreateCommandPool(device, &cpci, nullptr, &pool) != VK_SUCCESS) return *error = "command pool", false;
+  const core::Unique<VkCommandPool> poolOwner(device, pool);  // frees its command buffer too
+  VkCommandBufferAllocateInfo cbai{};
+  cbai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+  cbai.commandPool = pool;
+  cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cbai.commandBufferCount = 1;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  if (vkAllocateCommandBuffers(device, &cbai, &cmd) != VK_SUCCESS) return *error = "command buffer", false;
+  VkCommandBufferBeginInfo bi{};
+  bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  vkBeginCommandBuffer(cmd, &bi);
+  VkImageMemoryBarrier b{};
+  b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image;
+  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  b.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr,
+                       0, nullptr, 1, &b);
+  record(cmd);
+  b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
+                       nullptr, 0, nullptr, 1, &b);
+  vkEndCommandBuffer(cmd);
+  VkSubmitInfo si{};
+  si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmd;
+  if (vkQueueSubmit(ctx.queue(), 1, &si, VK_NULL_HANDLE) != VK_SUCCESS) return *error = "submit", false;
+  vkQueueWaitIdle(ctx.queue());
+  return true;
+}
+
+bool clearImage(core::VulkanContext& ctx, VkImage image, const glm::vec4& colour, std::string* error) {
+  return fillImage(
+      ctx, image,
+      [&](VkCommandBuffer cmd) {
+        const VkClearColorValue value{{colour.r, colour.g, colour.b, colour.a}};
+        const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value, 1, &range);
+      },
+      error);
+}
+
 bool uploadImage(core::VulkanContext& ctx, VkImage image, VkFormat format, VkExtent2D size,
                  const std::vector<glm::vec4>& pixels, std::string* error) {
   const VkDevice device = ctx.device();
@@ -97,51 +156,15 @@ bool uploadImage(core::VulkanContext& ctx, VkImage image, VkFormat format, VkExt
   }
   vkUnmapMemory(device, memory);
 
-  VkCommandPoolCreateInfo cpci{};
-  cpci.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-  cpci.queueFamilyIndex = ctx.queueFamilyIndex();
-  VkCommandPool pool = VK_NULL_HANDLE;
-  if (vkCreateCommandPool(device, &cpci, nullptr, &pool) != VK_SUCCESS) return *error = "command pool", false;
-  const core::Unique<VkCommandPool> poolOwner(device, pool);  // frees its command buffer too
-  VkCommandBufferAllocateInfo cbai{};
-  cbai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-  cbai.commandPool = pool;
-  cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cbai.commandBufferCount = 1;
-  VkCommandBuffer cmd = VK_NULL_HANDLE;
-  if (vkAllocateCommandBuffers(device, &cbai, &cmd) != VK_SUCCESS) return *error = "command buffer", false;
-  VkCommandBufferBeginInfo bi{};
-  bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  vkBeginCommandBuffer(cmd, &bi);
-  VkImageMemoryBarrier b{};
-  b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
-  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  b.image = image;
-  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-  b.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr,
-                       0, nullptr, 1, &b);
-  VkBufferImageCopy region{};
-  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  region.imageExtent = {size.width, size.height, 1};
-  vkCmdCopyBufferToImage(cmd, buffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-  b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-  b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-  b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
-                       nullptr, 0, nullptr, 1, &b);
-  vkEndCommandBuffer(cmd);
-  VkSubmitInfo si{};
-  si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-  si.commandBufferCount = 1;
-  si.pCommandBuffers = &cmd;
-  if (vkQueueSubmit(ctx.queue(), 1, &si, VK_NULL_HANDLE) != VK_SUCCESS) return *error = "submit", false;
-  vkQueueWaitIdle(ctx.queue());
-  return true;
+  return fillImage(
+      ctx, image,
+      [&](VkCommandBuffer cmd) {
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {size.width, size.height, 1};
+        vkCmdCopyBufferToImage(cmd, buffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+      },
+      error);
 }
 
 }  // namespace steadyxr::bench

@@ -8,6 +8,7 @@
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <functional>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec4.hpp>
 #include <string>
@@ -29,6 +30,13 @@ std::vector<glm::vec4> renderZonePlate(VkExtent2D size, const core::Fov& fov, co
 // The world direction through the centre of pixel (x, y) (the renderer's own mapping, for its test).
 glm::vec3 pixelDirection(VkExtent2D size, const core::Fov& fov, const glm::quat& orientation, float x,
                          float y);
+
+// Records `record` on a one-time command buffer between the image's transitions from UNDEFINED to
+// TRANSFER_DST_OPTIMAL and on to SHADER_READ_ONLY_OPTIMAL (one level and layer), submits it and waits.
+bool fillImage(core::VulkanContext& ctx, VkImage image, const std::function<void(VkCommandBuffer)>& record,
+               std::string* error);
+// --input flat: one colour everywhere, as vkCmdClearColorImage takes it.
+bool clearImage(core::VulkanContext& ctx, VkImage image, const glm::vec4& colour, std::string* error);
 
 // Copies `pixels` (linear RGB, as renderZonePlate gives them) into `image` (one level and layer, in
 // `format`: sRGB and UNORM RGBA8 or RGBA16F) through a staging buffer and leaves it in
