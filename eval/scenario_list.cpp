@@ -31,7 +31,10 @@ std::vector<Scenario> buildScenarios(const Options& o, std::string* error) {
     s.pictureClass = isPictureScene(scene) ? pictureClass(textureKey(picture)) : "scene:" + scene;
     const std::string motionLabel = trace ? std::filesystem::path(motion).stem().string() : motion;
     s.label = scene + "-" + motionLabel;
-    if (isPictureScene(scene)) s.label += "-" + textureKey(picture);
+    if (isPictureScene(scene)) {  // appended: GCC 12 at -O3 warns (-Wrestrict) on "-" + std::string&&
+      s.label += '-';
+      s.label += textureKey(picture);
+    }
     // The fast turn starts at once: give the filters history from a still head first.
     if (!trace && motion == "fastturn") s.leadSec = 0.5;
     out.push_back(s);

@@ -62,7 +62,9 @@ bool writeFrames(const std::string& dir, int f, const Image& truth, const std::v
                  const std::vector<std::array<Image, 2>>& outputs, std::string* error) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  const std::string suffix = "_" + std::to_string(f) + ".png";
+  std::string suffix = "_";  // appended: GCC 12 at -O3 warns (-Wrestrict) on "_" + std::string&&
+  suffix += std::to_string(f);
+  suffix += ".png";
   if (ec || !savePng(dir + "/gt" + suffix, truth, error)) {
     if (ec) *error = dir + ": " + ec.message();
     return false;

@@ -293,7 +293,11 @@ std::optional<Params> methodParams(const std::string& spec) {
 void printPipelines(const std::string& method, const std::vector<PipelineDescription>& pipelines) {
   for (const PipelineDescription& p : pipelines) {
     std::string spec;
-    for (const int32_t v : p.specialisation) spec += (spec.empty() ? "" : ",") + std::to_string(v);
+    for (const int32_t v :
+         p.specialisation) {  // appended: GCC 12 at -O3 warns (-Wrestrict) on "," + std::string&&
+      if (!spec.empty()) spec += ',';
+      spec += std::to_string(v);
+    }
     std::printf("pipeline of %s: %s:%s:%s\n", method.c_str(), p.pass.c_str(), p.storage.c_str(),
                 spec.c_str());
   }
