@@ -267,18 +267,20 @@ TEST(NoiseEstimate, CopiesAddUpToOneRecord) {
   EXPECT_EQ(record[4], 0u);
 }
 
-// The gain probe's blocks (filter_passes.h, round 17): one sample per block of side B at its centre,
-// B = 4 until an eye would hold more than 16384 samples, then the smallest power of two that holds no
-// more. The figures are counted here from that rule: 512x512 holds 128 x 128 samples of 4 px blocks,
-// exactly the budget; 1024x1024 would hold 65536 with 4 px and 16384 with 8; 2048x2048 holds 16384 with
-// 16; 1832x1920 (a headset's eye) 114 x 120 = 13680 with 16 and 229 x 240 with 8.
+// The probe's blocks (filter_passes.h, rounds 17 and 28): one sample per block of side B at its centre,
+// the smallest B from 4 up that holds at most 1024 samples an eye. The figures are counted here from
+// that rule: 128x128 holds 32 x 32 samples of 4 px blocks, exactly the budget (so every evaluated eye,
+// 96-128 px, keeps 4 px blocks); 256x256 holds 64 x 64 with 4 px, 43 x 43 with 6, 36 x 36 with 7 and
+// 32 x 32 with 8; 1024x1024 33 x 33 with 31 and 32 x 32 with 32; 1832x1920 (a headset's eye) 31 x 33 =
+// 1023 with 59 px and 32 x 33 with 58.
 TEST(GainProbe, BlocksKeepAnEyeWithinItsSampleBudget) {
+  EXPECT_EQ(probeBlockPx(96, 96), 4);
   EXPECT_EQ(probeBlockPx(128, 128), 4);
-  EXPECT_EQ(probeBlockPx(512, 512), 4);
-  EXPECT_EQ(probeBlockPx(1024, 1024), 8);
-  EXPECT_EQ(probeBlockPx(2048, 2048), 16);
-  EXPECT_EQ(probeBlockPx(1832, 1920), 16);
-  EXPECT_EQ(probeSamples(1832, 1920, 16), 114 * 120);
+  EXPECT_EQ(probeBlockPx(256, 256), 8);
+  EXPECT_EQ(probeBlockPx(1024, 1024), 32);
+  EXPECT_EQ(probeBlockPx(1832, 1920), 59);
+  EXPECT_EQ(probeSamples(1832, 1920, 59), 31 * 33);
+  EXPECT_EQ(probeSamples(1832, 1920, 58), 32 * 33);
   // A partial block counts where its centre lies inside the eye: 1045 = 130 * 8 + 5 holds 131.
   EXPECT_EQ(probeSamples(1045, 8, 8), 131);
   EXPECT_EQ(probeSamples(1044, 8, 8), 130);
@@ -287,9 +289,9 @@ TEST(GainProbe, BlocksKeepAnEyeWithinItsSampleBudget) {
   for (int32_t w = 1; w <= 5000; w += 37) {
     for (int32_t h = 1; h <= 5000; h += 41) {
       const int32_t b = probeBlockPx(w, h);
-      ASSERT_LE(probeSamples(w, h, b), 16384) << w << "x" << h;
+      ASSERT_LE(probeSamples(w, h, b), 1024) << w << "x" << h;
       if (b > 4) {
-        ASSERT_GT(probeSamples(w, h, b / 2), 16384) << w << "x" << h;
+        ASSERT_GT(probeSamples(w, h, b - 1), 1024) << w << "x" << h;
       }
     }
   }

@@ -76,7 +76,7 @@ GainProbeSums probeSumsByRule(const std::array<HostImage, 2>& now, const std::ar
     const uint32_t w = now[e].width, h = now[e].height;
     uint32_t block = 4;
     const auto count = [&](uint32_t b) { return uint64_t((w + b / 2 - 1) / b) * ((h + b / 2 - 1) / b); };
-    while (count(block) > 16384) block *= 2;
+    while (count(block) > 1024) ++block;  // the smallest side that holds at most 1024 (round 28)
     for (uint32_t y = block / 2; y < h; y += block)
       for (uint32_t x = block / 2; x < w; x += block) {
         const double current = luma(now[e].at(x, y)), history = luma(before[e].at(x, y));
@@ -113,7 +113,8 @@ HostImage probePicture(uint32_t w, uint32_t h, int e, int k) {
 }  // namespace
 
 // The probe covers both eyes whole at every size: at 64x48 (4 px blocks, 16 x 12 samples an eye) and at
-// 1040x280, where 4 px blocks would give 260 x 70 = 18200 samples an eye, so 8 px blocks give 130 x 35.
+// 1040x280, where 4 px blocks would give 260 x 70 = 18200 samples an eye and 16 px 65 x 18 = 1170, so
+// 17 px blocks give 61 x 16 = 976: a side that is not a power of two.
 // The sums the filter read back from the probe's record are the rule's: the samples exactly, the means
 // to the record's rounding (each sample to 2^-10: at most 2^-11 off on average; the magnitude to 2^-11).
 TEST_F(CoreTest, SteadyGainProbeSamplesBothEyesWholeAtEverySize) {

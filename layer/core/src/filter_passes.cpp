@@ -174,7 +174,7 @@ int64_t probeSamples(int32_t width, int32_t height, int32_t blockPx) {
 
 int32_t probeBlockPx(int32_t width, int32_t height) {
   int32_t block = kProbeSmallestBlockPx;
-  while (probeSamples(width, height, block) > kProbeSamplesPerEye) block *= 2;
+  while (probeSamples(width, height, block) > kProbeSamplesPerEye) ++block;  // ~sqrt(area / 1024) steps
   return block;
 }
 

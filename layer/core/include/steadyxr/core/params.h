@@ -156,7 +156,7 @@ struct Params {
   // and the clip box widened by one pixel's noise variance: a history may differ from the box by as
   // much as the noisy render itself differs from the truth (none's own error). The estimate: Donoho
   // and Johnstone's robust scale, sigma = median |d| / 0.6745, over the luma's x^2 y^2 contrast d of
-  // the 3x3 at one pixel in 16 (the finest diagonal detail; at most 16384 an eye since round 22: the
+  // the 3x3 at one pixel in 16 (the finest diagonal detail; at most 1024 an eye since round 28: the
   // probe's, below), 3x3s with none of it (flat, masked) left out, from the newest frame the GPU has
   // finished. Why: without it the box (items 6 and 7, built from second differences) clips a good history to
   // a noisy centre, and plain taa beat the default on noisy renders. One frame cannot tell fine aliased
@@ -180,7 +180,7 @@ struct Params {
   // than its own rounding, so no 3x3 can tell it from aliasing, and where the box is its floor the lagging
   // history is clipped onto it (a dark fade's first frame reached 1.37x none's, held-out seed 40). The
   // whole frame can tell: before the temporal pass a probe sums, at one pixel in 16 of both eyes (at most
-  // 16384 an eye since round 17, filter_passes.h), the luma of this frame and of the reprojected history
+  // 1024 an eye since round 28, filter_passes.h), the luma of this frame and of the reprojected history
   // (clamped to [0, 1]: HDR above 1 leans to no gain); where
   // their mean difference lies 4 standard errors from 0 (round 15's test) the gain is the ratio of the
   // sums, else 1. A pixel takes the relit history only where the box rejects the history as it was, the
