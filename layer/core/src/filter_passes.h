@@ -117,9 +117,10 @@ PassDispatch probePass(const PassContext& c, uint32_t e);
 // The probe's samples: the pixels at (B/2 + i B, B/2 + j B) of an eye of width x height, for blocks of
 // side B. Their count, and the side the probe takes: the smallest from 4 px (one pixel in 16) up whose
 // blocks hold at most kProbeSamplesPerEye samples. Round 28: 1024, the samples every evaluated eye
-// (96-128 px: the corpus, every held-out draw) measured its noise and its fades with; round 17's 16384
-// tightened the fade test beyond anything tested, and its cost took the default over the limit
-// at 256x256. The probe's cost stops growing with the resolution. One invocation per block (round 22).
+// (96-128 px: the corpus, every held-out draw) measured its noise and its fades with. Round 17's 16384
+// tightened the fade test beyond anything tested, and under it one pixel in 16 (4096 samples an eye at
+// 256x256) took the default over the cost limit. The probe's cost stops growing with the
+// resolution. One invocation per block (round 22).
 constexpr int32_t kProbeSmallestBlockPx = 4;
 constexpr int64_t kProbeSamplesPerEye = 1024;
 int64_t probeSamples(int32_t width, int32_t height, int32_t blockPx);
