@@ -27,16 +27,21 @@ std::vector<int> motionChangeFrames(const Scenario& sc, const imu::MotionStream&
   return changes;
 }
 
-void addContentChangeFrames(const Scene& scene, double firstFrameSec, double dt, int frames,
-                            std::vector<int>* changes) {
-  if (!scene.contentChanges) return;
-  const double lastSec = firstFrameSec + (frames - 1) * dt;
-  for (double tc : scene.contentChanges(firstFrameSec, lastSec)) {
+void addChangeFrames(const std::vector<double>& times, double firstFrameSec, double dt, int frames,
+                     std::vector<int>* changes) {
+  for (double tc : times) {
     const int k = int(std::ceil((tc - firstFrameSec) / dt - 1e-9));
     if (k >= 0 && k < frames) changes->push_back(k);
   }
   std::sort(changes->begin(), changes->end());
   changes->erase(std::unique(changes->begin(), changes->end()), changes->end());
+}
+
+void addContentChangeFrames(const Scene& scene, double firstFrameSec, double dt, int frames,
+                            std::vector<int>* changes) {
+  if (!scene.contentChanges) return;
+  const double lastSec = firstFrameSec + (frames - 1) * dt;
+  addChangeFrames(scene.contentChanges(firstFrameSec, lastSec), firstFrameSec, dt, frames, changes);
 }
 
 ResultRow resultRow(const Scenario& sc, const Variant& v, const Accum& a, const Accum* none,
@@ -76,7 +81,7 @@ ResultRow resultRow(const Scenario& sc, const Variant& v, const Accum& a, const 
   }
   r.motionChanges = int(facts.motionChanges.size());
   r.headSpeedP95 = facts.headSpeedP95;
-  r.lowSpeed = facts.headSpeedP95 < kLowSpeedDegPerSec;
+  r.lowSpeed = facts.headSpeedP95 < kLowSpeedDegPerSec && !facts.viewMovesWithoutHead;
   r.staticScene = facts.staticScene;
   // lavapipe's timestamps miss dispatches that no barrier waits for (measured: hybrid 0.1 ms
   // by timestamps, 3.5 ms from submit to idle, at 256x256), and its "GPU" is this CPU anyway:

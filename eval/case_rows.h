@@ -16,12 +16,13 @@ namespace steadyxr::eval {
 struct Scene;
 
 struct CaseFacts {
-  double gtStereo = 0;             // the ground truth's mean stereo difference over the case
-  std::vector<int> motionChanges;  // frames at which the head motion (or a scene's content) changes
-  double headSpeedP95 = 0;         // deg/s
-  bool staticScene = true;         // no moving object
-  bool cpuDevice = false;          // the device is a CPU (lavapipe): cost is wall time
-  double truth8TemporalError = 0;  // temporal error of the 8-bit-rounded truth (metrics.h roundTo8Bit)
+  double gtStereo = 0;                // the ground truth's mean stereo difference over the case
+  std::vector<int> motionChanges;     // frames at which the head motion (or a scene's content) changes
+  double headSpeedP95 = 0;            // deg/s
+  bool viewMovesWithoutHead = false;  // --locomotion: the app's rig moves the picture (not a still head)
+  bool staticScene = true;            // no moving object
+  bool cpuDevice = false;             // the device is a CPU (lavapipe): cost is wall time
+  double truth8TemporalError = 0;     // temporal error of the 8-bit-rounded truth (metrics.h roundTo8Bit)
 };
 
 // The frames of a case at which its head motion changes: a preset's own change times (the first
@@ -30,6 +31,10 @@ std::vector<int> motionChangeFrames(const Scenario& sc, const imu::MotionStream&
                                     const std::vector<double>& headSpeeds, double firstFrameSec, double dt,
                                     int frames);
 
+// Adds to `changes` (kept sorted, no repeats) the frame at or after each of `times` (seconds, on the
+// clock whose first frame is at firstFrameSec).
+void addChangeFrames(const std::vector<double>& times, double firstFrameSec, double dt, int frames,
+                     std::vector<int>* changes);
 // Adds to `changes` (kept sorted, no repeats) the frames at or after each in-place content change of
 // the scene (Scene::contentChanges: a cut, a fade's ends, a light switching): recovery counts from
 // those too.

@@ -93,6 +93,13 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        image viewer's picture moves further away and the scenes in metres are
                        stretched in depth to keep their pixels; a scene that would pass the far
                        plane is refused (--corpus leaves it out)
+  --locomotion KIND:N  the app's own rig motion, which it renders but does not submit (OpenXR
+                       poses are the tracked head's): the layer sees the head, the picture moves
+                       by both. turn:DEG_PER_S (a smooth turn, left for > 0), strafe:M_PER_S,
+                       forward:M_PER_S (a stick held for the middle half of the run), snap:DEG
+                       (a snap turn at a third of the run and back at two thirds); such cases are
+                       never low-speed ones; the display stage's extra frames (display rate above
+                       the app's) warp with the rigged poses, as a runtime that knew the rig
   --no-sweeps          skip the parameter sweeps
   --quick              small run: 1 picture, no sweeps, 16 frames, 96x96 (unless given)
   --validation         enable the Vulkan validation layer
@@ -173,6 +180,12 @@ int main(int argc, char** argv) {
       } else if (a == "--ppd") {
         o.ppd = std::stod(next());
         if (!(o.ppd > 0.0)) throw std::invalid_argument("ppd");
+      } else if (a == "--locomotion") {
+        std::string error;
+        if (!steadyxr::eval::parseLocomotion(next(), &o.locomotion, &error)) {
+          std::cerr << "steadyxr-eval: " << error << "\n";
+          return 2;
+        }
       } else if (a == "--no-sweeps") {
         o.sweeps = false;
       } else if (a == "--quick") {

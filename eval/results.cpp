@@ -77,6 +77,7 @@ void writeResultsJson(const std::string& path, const Options& o, const std::vect
     << ", \"display_hz\": " << o.displayHz << ", \"gt_samples_per_pixel\": " << o.gtGrid * o.gtGrid
     << ", \"error_threshold\": " << o.errorThreshold << ", \"srgb\": " << boolStr(!o.unorm)
     << ", \"mipmaps\": " << boolStr(o.mipmaps) << ", \"corpus\": " << boolStr(o.corpus)
+    << ", \"ppd\": " << o.ppd << ", \"locomotion\": " << jsonStr(toString(o.locomotion))
     << ", \"device\": " << jsonStr(device)
     << ", \"color_space\": \"display-encoded (sRGB) 8-bit values scaled to [0,1]; MTCD, temporal and stereo "
        "error in 8-bit code values\""

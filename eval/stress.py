@@ -55,6 +55,12 @@ SCENE_WEIGHTS = {"imageviewer": 0.7, "moving": 0.1, "thin": 0.1, "disocclusion":
 OPT_IN_SCENE_WEIGHTS = {"hud": 0.7, "video": 0.1, "fade": 0.1, "blink": 0.1}
 PICTURED_SCENES = ("imageviewer",) + tuple(OPT_IN_SCENE_WEIGHTS)
 DEPTH_SCENES_PPD_PER_96PX = 14.0
+# --locomotion-fraction: the app's own rig motion, rendered but not submitted (eval/locomotion.h), drawn
+# from its own generator so that the other draws of a seed do not change. Ranges are a game's settings:
+# smooth turns 20-120 deg/s, walks and strafes 0.5-3 m/s (a walk to a run), snap turns 20-45 deg.
+LOCOMOTION_KINDS = ("turn", "strafe", "forward", "snap")
+# A walk ahead stops this far short of the image viewer's picture (1.5 m): 0.5 m from it.
+FORWARD_MAX_M = 1.0
 
 
 def parse_args(argv):
@@ -78,6 +84,9 @@ def parse_args(argv):
     p.add_argument("--unorm-fraction", type=float, default=0.1, help="share of cases with --unorm")
     p.add_argument("--noise-fraction", type=float, default=0.1,
                    help="share of cases with per-frame noise (--noise 0.01-0.08; 0.08 is the noisy scene's)")
+    p.add_argument("--locomotion-fraction", type=float, default=0.0,
+                   help="share of cases whose app moves its rig (a smooth turn, a walk, a snap turn) without "
+                        "telling the layer (default 0: the draws of earlier rounds)")
     p.add_argument("--generate-only", action="store_true", help="write pictures and traces, run nothing")
     args = p.parse_args(argv)
     unknown = [k for k in args.pictures.split(",") if k not in stress_pictures.KINDS]
@@ -106,6 +115,8 @@ def draw_case(seed, index, args):
     app_hz = float(rng.choice([float(x) for x in args.app_hz.split(",")]))
     unorm = bool(rng.uniform() < args.unorm_fraction)
     noise = float(np.exp(rng.uniform(np.log(0.01), np.log(0.08)))) if rng.uniform() < args.noise_fraction else 0.0
+    locomotion = draw_locomotion(np.random.default_rng([seed, index, 7]), args.locomotion_fraction,
+                                 frames / app_hz)
     return {
         "index": index,
         "name": f"s{seed}c{index:03d}",
@@ -119,8 +130,26 @@ def draw_case(seed, index, args):
         "app_hz": app_hz,
         "unorm": unorm,
         "noise": round(noise, 4),
+        "locomotion": locomotion,
         "rng": rng,
     }
+
+
+def draw_locomotion(rng, fraction, run_s):
+    """The eval's --locomotion spec of a case ("" for none), log-uniform over each kind's range."""
+    if rng.uniform() >= fraction:
+        return ""
+    kind = LOCOMOTION_KINDS[int(rng.integers(len(LOCOMOTION_KINDS)))]
+    sign = 1.0 if rng.uniform() < 0.5 else -1.0
+    if kind == "turn":
+        amount = sign * np.exp(rng.uniform(np.log(20.0), np.log(120.0)))
+    elif kind == "snap":
+        amount = sign * rng.uniform(20.0, 45.0)
+    else:
+        amount = np.exp(rng.uniform(np.log(0.5), np.log(3.0)))
+        # The stick is held for half the run (eval/locomotion.h): a walk ahead stays short of the picture.
+        amount = sign * amount if kind == "strafe" else min(amount, FORWARD_MAX_M / (run_s / 2.0))
+    return f"{kind}:{amount:.3g}"
 
 
 def write_case_inputs(case, out):
@@ -157,6 +186,8 @@ def eval_command(case, args, out_dir):
         cmd.append("--unorm")
     if case["noise"] > 0:
         cmd += ["--noise", f"{case['noise']:g}"]
+    if case.get("locomotion"):
+        cmd += ["--locomotion", case["locomotion"]]
     return cmd
 
 
@@ -234,12 +265,13 @@ def describe_motion(case):
     p = case["motion_params"]
     short = {"tremor_rms_deg": "tr", "drift_deg_s": "dr", "sway_hz": "sw", "pursuit_deg_s": "pu",
              "saccade_deg": "sa", "turn_peak_deg_s": "tu"}
-    return case["motion_kind"] + "(" + ",".join(f"{s}={p[k]}" for k, s in short.items() if k in p) + ")"
+    text = case["motion_kind"] + "(" + ",".join(f"{s}={p[k]}" for k, s in short.items() if k in p) + ")"
+    return text + ("+" + case["locomotion"] if case.get("locomotion") else "")
 
 
 def print_table(cases):
     head = (f"{'case':9} {'scene':12} {'res':>3} {'ppd':>3} {'hz':>2} {'mip':>3} {'fr':>2} {'un/nz':>6}  {'picture':34}"
-            f" {'motion':34}"
+            f" {'motion':46}"
             f" {'p95':>6} {'def/none':>8} {'worst':>11} {'rec':>4} {'def/taa':>7}  verdict")
     print(head)
     print("-" * len(head))
@@ -261,7 +293,7 @@ def print_table(cases):
         extra = ("u" if c["unorm"] else "-") + "/" + (f"{c['noise']:.2f}" if c["noise"] > 0 else "-")
         print(f"{c['name']:9} {c['scene']:12} {c['resolution']:>3} {c['ppd']:>3g} {c['app_hz']:>2g}"
               f" {'y' if c['mipmaps'] else 'n':>3} {c['frames']:>2} {extra:>6}  {describe_picture(c)[:34]:34}"
-              f" {describe_motion(c)[:34]:34} {v['head_p95']:6.2f}"
+              f" {describe_motion(c)[:46]:46} {v['head_p95']:6.2f}"
               f" {v['mean_ratio']:8.3f} {worst:>11} {rec:>4} {v['taa_ratio']:7.3f}  "
               f"{'ok' if not flags else 'BROKEN ' + '+'.join(flags)}{why}")
         if "overlay_core_mean" in v:
@@ -292,7 +324,8 @@ def breakdown(cases):
     cases broken), so that a failure's axis shows (e.g. the app rate)."""
     axes = {"scene": lambda c: c["scene"], "picture": lambda c: c["picture_kind"] if c["scene"] in PICTURED_SCENES
             else None, "motion": lambda c: c["motion_kind"], "ppd": lambda c: f"{c['ppd']:g}",
-            "app Hz": lambda c: f"{c['app_hz']:g}", "mipmaps": lambda c: "y" if c["mipmaps"] else "n"}
+            "app Hz": lambda c: f"{c['app_hz']:g}", "mipmaps": lambda c: "y" if c["mipmaps"] else "n",
+            "locomotion": lambda c: c["locomotion"].split(":")[0] if c.get("locomotion") else "none"}
     lines = []
     for axis, key in axes.items():
         groups = {}

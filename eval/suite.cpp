@@ -10,6 +10,7 @@
 #include "eye_rig.h"
 #include "frame_score.h"
 #include "image.h"
+#include "locomotion.h"
 #include "metrics.h"
 #include "oracle.h"
 #include "progress.h"
@@ -222,10 +223,16 @@ int runSuite(const Options& o) {
                 << " s, the run needs it until " << lastSec << " s (fewer --frames or an earlier --start)\n";
       return 2;
     }
-    auto headAt = [&](double t) {
+    // The tracked head (what the app submits and the layer is told), and the pose the app renders
+    // from: the same, unless --locomotion moves the app's rig on top (locomotion.h).
+    auto trackedAt = [&](double t) {
       const imu::MotionState m = stream->at(std::max(0.0, t));
       return HeadPose{glm::normalize(m.orientation), m.position + scene.headOffset(t)};
     };
+    const double firstFrameSec = start - sc.leadSec;
+    const RigSchedule rig{(o.frames - 1) * dt, trackedAt(firstFrameSec),
+                          1.0 / ppdTangentScale(o.ppd, o.width)};
+    auto headAt = [&](double t) { return rigPose(o.locomotion, rig, trackedAt(t), t - firstFrameSec); };
     std::vector<Accum> acc(variants.size());
     // Uniform noise of amplitude F has the variance F^2 / 3 per channel (eval/shaders/scene.frag).
     const float noiseAmplitude =
@@ -259,6 +266,7 @@ int runSuite(const Options& o) {
       const float headSpeed = float(stream->headSpeedDegPerSec(std::max(0.0, t)));
       headSpeeds.push_back(headSpeed);
       const auto cams = eyeCameras(head, o.width, o.height, o.ppd);
+      const auto trackedCams = eyeCameras(trackedAt(t), o.width, o.height, o.ppd);
       // The layer's jitter of this frame (xrLocateViews call f), as `jitter = 1` injects it.
       const glm::vec2 jitter = core::haltonJitterPx(uint32_t(f));
       const float objSpeed = scene.objectSpeed(t);
@@ -370,8 +378,8 @@ int runSuite(const Options& o) {
             core::ViewFrame& view = frame.views[eye];
             view.color = v.source == 1 ? renderer->baseColor(eye) : renderer->msaaColor(v.source, eye);
             if (sc.depthGiven) view.depth = renderer->baseDepth(eye, cams[eye].nearZ, cams[eye].farZ);
-            view.pose = cams[eye].pose;
-            view.fov = cams[eye].fov;  // the unjittered fov, as the layer submits after un-jittering
+            view.pose = trackedCams[eye].pose;  // the tracked head's, without the app's rig
+            view.fov = cams[eye].fov;           // the unjittered fov, as the layer submits after un-jittering
             if (v.jitter) view.jitterPx = jitter;
           }
           frame.viewCount = 2;
@@ -483,9 +491,11 @@ int runSuite(const Options& o) {
     // Rows of this scenario.
     std::vector<int> changes = motionChangeFrames(sc, *stream, headSpeeds, start - sc.leadSec, dt, o.frames);
     addContentChangeFrames(scene, start - sc.leadSec, dt, o.frames, &changes);  // video, fade, blink
+    addChangeFrames(locomotionChangeTimes(o.locomotion, rig), 0.0, dt, o.frames, &changes);
     const CaseFacts facts{safeDiv(gtStereoSum, gtStereoN),
                           changes,
                           percentile(headSpeeds, 0.95),
+                          rigMoves(o.locomotion),
                           !scene.hasMovingObject,
                           ctx->isCpuDevice(),
                           safeDiv(truth8TempErrSum, truth8TempErrN)};

@@ -2,6 +2,7 @@
 // render at the frame's head pose (both eyes) -> filter core -> display stage -> metrics.
 #pragma once
 
+#include "locomotion.h"
 #include "scene.h"
 
 #include <cstdint>
@@ -40,6 +41,8 @@ struct Options {
   bool quick = false;
   // > 0: a headset's pixels per degree at the view's centre (eye_rig.h, ppdTangentScale); 0: eyeFov.
   double ppd = 0.0;
+  // The app's own rig motion on top of the head's, which the layer is not told (locomotion.h).
+  Locomotion locomotion;
 };
 
 // Returns the process exit code (0 on success).

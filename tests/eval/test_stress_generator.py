@@ -147,4 +147,23 @@ with contextlib.redirect_stderr(io.StringIO()) as err:
     except SystemExit as e:
         assert e.code == 2
 assert "unknown kind(s) photos" in err.getvalue(), err.getvalue()
+# --locomotion-fraction: every drawn rig motion is one the eval reads, within a game's settings, and
+# it changes nothing else of a case (earlier seeds draw what they drew); a walk ahead stops 0.5 m short
+# of the picture at 1.5 m over the half of the run the stick is held (eval/locomotion.h).
+moving = stress.parse_args(["--eval", "x", "--out", "y", "--locomotion-fraction", "1"])
+limits = {"turn": (20.0, 120.0), "snap": (20.0, 45.0), "strafe": (0.5, 3.0), "forward": (0.0, 3.0)}
+kinds = set()
+for i in range(40):
+    with_rig, without = stress.draw_case(61, i, moving), stress.draw_case(61, i, every)
+    assert without["locomotion"] == "", without
+    assert {k: v for k, v in with_rig.items() if k not in ("locomotion", "rng")} == \
+        {k: v for k, v in without.items() if k not in ("locomotion", "rng")}, i
+    kind, amount = with_rig["locomotion"].split(":")
+    kinds.add(kind)
+    low, high = limits[kind]
+    assert low * 0.999 <= abs(float(amount)) <= high * 1.001, with_rig["locomotion"]
+    if kind == "forward":
+        assert float(amount) > 0 and float(amount) * with_rig["frames"] / with_rig["app_hz"] / 2 <= 1.0 + 1e-3, \
+            with_rig
+assert kinds == set(limits), kinds
 print("stress generator OK")
