@@ -40,6 +40,10 @@ struct Options {
   std::vector<std::string> methods{"none", "fxaa", "taa", "hmtaa", "vtaa", "hybrid", "stereo", "default"};
   int iterations = 20;
   int warmup = 3;
+  // Warm-up also lasts this long at each size; -1: 2000 ms on a GPU, none on a CPU device. A GPU's clock
+  // rose from 345 MHz to 1980 within 0.2-1 s of steady work and fell back within 0.4 s of idling (an
+  // H200, round 29, sampled every 200 ms): the picture's rendering and the pipelines' creation idle it.
+  int warmupMs = -1;
   std::string csv;
   bool pipelines = false;                     // print each method's pipelines (for steadyxr-shader-stats)
   VkFormat format = VK_FORMAT_R8G8B8A8_SRGB;  // of the app's input and output images
@@ -56,33 +60,36 @@ glm::quat tremorOrientation(int frame) {
 constexpr Fov kBenchFov{-0.8f, 0.75f, 0.78f, -0.82f};
 
 void usage() {
-  std::cout << "usage: steadyxr-bench [--sizes WxH[,WxH...]] [--methods m1,m2,...] [--iterations N]\n"
-               "                      [--warmup N] [--format srgb8|unorm8|rgba16f] [--csv FILE]\n"
-               "                      [--block auto|1x1|4x4] [--input picture|flat] [--pipelines]\n"
-               "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to (measured\n"
-               "first and last at each size; the faster of the two is used). A method may end in\n"
-               "@history=16 or @history=8 (the history's bits per channel, Params::historyFormat).\n"
-               "'model' is the traffic model's bytes per pixel of one eye (traffic_model.h) and its\n"
-               "ratio to the copy's; 'ops' its fetches+samples+stores per pixel. <method>@catmull: the\n"
-               "method with the Catmull-Rom history. @blend: the far plane at the nearest depth, so\n"
-               "that steady+stereo blends without depth (else it skips the pass: the disparity's\n"
-               "spread exceeds a pixel); @tapcurv=0: stereo without the tap's curvature correction;\n"
-               "@curvbox, @curvbox=0: steady's clip box bounded by second differences or not "
-               "(steadyClipCurvature); @curvcentre, @curvcentre=0, @quantsrgb, @quantsrgb=0: the\n"
-               "one-sided curvature box and the sRGB quantisation floor, or not\n"
-               "(steadyClipCurvatureCentred, steadyClipQuantSrgb); @curvgate: the one-sided box only\n"
-               "where the history lags on one side (steadyClipCurvatureCentredGated, an option);\n"
-               "@noisy, @noisy=0: the render's noise estimated and the box widened by it, or not\n"
-               "(steadyNoiseEstimate; the default since round 15); @gain=0: without the frame's gain\n"
-               "probe and its compensation (steadyGainCompensation; the default since round 16);\n"
-               "@hold=0: the 8-bit output rounded, not held (steadyOutputHold; held since round 20).\n"
-               "@noisetold: the render's noise told (0.02^2 a channel), not estimated: the passes act\n"
-               "on it in every pixel; @blurnoise, @blurnoise=0: round 26's blur\n"
-               "guard traded against that noise, or not (steadyBlurNoiseTrade).\n"
-               "--input: the eye images, a zone plate rendered for each frame's pose (the default since\n"
-               "round 28: detail, aliasing and chroma, as an app's frames) or one flat colour (before).\n"
-               "--pipelines: after each method, the pipelines it used as PASS:STORAGE:SPECIALISATION,\n"
-               "the arguments of steadyxr-shader-stats (registers and instructions on a GPU's compiler).\n";
+  std::cout
+      << "usage: steadyxr-bench [--sizes WxH[,WxH...]] [--methods m1,m2,...] [--iterations N]\n"
+         "                      [--warmup N] [--warmup-ms MS] [--format srgb8|unorm8|rgba16f] [--csv FILE]\n"
+         "                      [--block auto|1x1|4x4] [--input picture|flat] [--pipelines]\n"
+         "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to (each iteration\n"
+         "runs every method once, the copy first; a ratio is the median over iterations of the\n"
+         "method's time over the copy's in the same iteration). Warm-up: --warmup iterations and\n"
+         "at least --warmup-ms (default 2000 on a GPU, 0 on a CPU device). A method may end in\n"
+         "@history=16 or @history=8 (the history's bits per channel, Params::historyFormat).\n"
+         "'model' is the traffic model's bytes per pixel of one eye (traffic_model.h) and its\n"
+         "ratio to the copy's; 'ops' its fetches+samples+stores per pixel. <method>@catmull: the\n"
+         "method with the Catmull-Rom history. @blend: the far plane at the nearest depth, so\n"
+         "that steady+stereo blends without depth (else it skips the pass: the disparity's\n"
+         "spread exceeds a pixel); @tapcurv=0: stereo without the tap's curvature correction;\n"
+         "@curvbox, @curvbox=0: steady's clip box bounded by second differences or not "
+         "(steadyClipCurvature); @curvcentre, @curvcentre=0, @quantsrgb, @quantsrgb=0: the\n"
+         "one-sided curvature box and the sRGB quantisation floor, or not\n"
+         "(steadyClipCurvatureCentred, steadyClipQuantSrgb); @curvgate: the one-sided box only\n"
+         "where the history lags on one side (steadyClipCurvatureCentredGated, an option);\n"
+         "@noisy, @noisy=0: the render's noise estimated and the box widened by it, or not\n"
+         "(steadyNoiseEstimate; the default since round 15); @gain=0: without the frame's gain\n"
+         "probe and its compensation (steadyGainCompensation; the default since round 16);\n"
+         "@hold=0: the 8-bit output rounded, not held (steadyOutputHold; held since round 20).\n"
+         "@noisetold: the render's noise told (0.02^2 a channel), not estimated: the passes act\n"
+         "on it in every pixel; @blurnoise, @blurnoise=0: round 26's blur\n"
+         "guard traded against that noise, or not (steadyBlurNoiseTrade).\n"
+         "--input: the eye images, a zone plate rendered for each frame's pose (the default since\n"
+         "round 28: detail, aliasing and chroma, as an app's frames) or one flat colour (before).\n"
+         "--pipelines: after each method, the pipelines it used as PASS:STORAGE:SPECIALISATION,\n"
+         "the arguments of steadyxr-shader-stats (registers and instructions on a GPU's compiler).\n";
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -110,6 +117,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->iterations = std::max(1, std::atoi(next().c_str()));
     } else if (a == "--warmup") {
       o->warmup = std::max(0, std::atoi(next().c_str()));
+    } else if (a == "--warmup-ms") {
+      o->warmupMs = std::max(0, std::atoi(next().c_str()));
     } else if (a == "--format") {
       const std::string f = next();
       if (f == "srgb8")
@@ -229,8 +238,18 @@ struct Row {
   double gpuMs, copyMs, hostUs, hostCpuUs;
   double gpuMinMs, copyMinMs;  // minimum over iterations: less sensitive to a shared, loaded CPU
   double cpuMs, copyCpuMs;     // process CPU ms per frame (lavapipe's work), median
+  double ratioToCopy;          // median over iterations of the method's GPU time over the copy's in it
+  double cpuRatioToCopy;       // the same of the process CPU time
   steadyxr::bench::Traffic model;
 };
+
+// The median over iterations of a[i] / b[i]: a method against the copy run in the same iteration.
+double pairedRatio(const std::vector<double>& a, const std::vector<double>& b) {
+  std::vector<double> ratios;
+  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    if (b[i] > 0) ratios.push_back(a[i] / b[i]);
+  return median(ratios);
+}
 
 // "name" or "name@history=16|8": the method's parameters.
 std::optional<Params> methodParams(const std::string& spec) {
@@ -342,19 +361,21 @@ int main(int argc, char** argv) {
         return 1;
       }
     }
-    // The floor is measured first and again last at each size, and the faster of the two is
-    // used: a copy slowed by a drifting machine (lavapipe's threads still spinning up, say) would
-    // otherwise flatter every ratio of that size.
+    // Every iteration runs each method once, in turn, the copy first, and a method's ratio is the median
+    // over iterations of its time over the copy's in the same iteration. A GPU's clock drops to a fraction
+    // between short submissions and rises again, seconds at a time (an H200: 345 MHz against 1980, round
+    // 29), and lavapipe's cores are shared with the machine's other work: paired frames see the same
+    // clock and load, where whole runs of one method after another did not.
     std::vector<std::string> methods;
     for (const std::string& m : opt.methods)
       if (m != "none") methods.push_back(m);
     methods.insert(methods.begin(), "none");
-    methods.push_back("none");
-    struct Measured {
-      double gpuMs, gpuMinMs, cpuMs, hostUs, hostCpuUs;
+    struct Method {
+      std::unique_ptr<Filter> filter;
       steadyxr::bench::Traffic model;
+      std::vector<double> gpu, host, hostCpu, cpu;
     };
-    std::vector<Measured> measured;
+    std::vector<Method> runs;
     for (const std::string& m : methods) {
       auto params = methodParams(m);
       if (!params) {
@@ -364,15 +385,23 @@ int main(int argc, char** argv) {
       params->invocationBlock = opt.block;
       const bool blocked = opt.block == InvocationBlock::FourByFour ||
                            (opt.block == InvocationBlock::Auto && ctx->isCpuDevice());
-      const steadyxr::bench::Traffic model = steadyxr::bench::modelTraffic(*params, opt.format, blocked);
-      auto filter = Filter::create(*ctx, *params, &err);
-      if (!filter) {
+      Method run;
+      run.model = steadyxr::bench::modelTraffic(*params, opt.format, blocked);
+      run.filter = Filter::create(*ctx, *params, &err);
+      if (!run.filter) {
         std::cerr << "steadyxr-bench: " << err << "\n";
         return 1;
       }
-      std::vector<double> gpu, host, hostCpu, cpu;
-      VkImageLayout outLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-      for (int i = 0; i < opt.warmup + opt.iterations; ++i) {
+      runs.push_back(std::move(run));
+    }
+    VkImageLayout outLayout = VK_IMAGE_LAYOUT_UNDEFINED;  // the output images are every method's
+    const int warmupMs = opt.warmupMs >= 0 ? opt.warmupMs : ctx->isCpuDevice() ? 0 : 2000;
+    const auto warmupStart = std::chrono::steady_clock::now();
+    for (int i = 0, measured = 0; measured < opt.iterations; ++i) {
+      const bool warming = i < opt.warmup || std::chrono::steady_clock::now() - warmupStart <
+                                                 std::chrono::milliseconds(warmupMs);
+      if (!warming) ++measured;
+      for (Method& run : runs) {
         StereoFrame f;
         StereoOutput o;
         f.headSpeedDegPerSec = 4.0f;
@@ -384,11 +413,11 @@ int main(int argc, char** argv) {
           o.views[e] = out[e]->ref(outLayout);
           o.views[e].finalLayout = VK_IMAGE_LAYOUT_GENERAL;
         }
-        filter->waitIdle();  // host time below is the recording/submission only, no GPU wait
+        run.filter->waitIdle();  // host time below is the recording/submission only, no GPU wait
         const double c0 = processCpuMs();
         const double h0 = threadCpuUs();
         const auto t0 = std::chrono::steady_clock::now();
-        const bool ok = filter->submit(f, o, &err);
+        const bool ok = run.filter->submit(f, o, &err);
         const auto t1 = std::chrono::steady_clock::now();
         const double h1 = threadCpuUs();
         if (!ok) {
@@ -396,41 +425,41 @@ int main(int argc, char** argv) {
           return 1;
         }
         outLayout = VK_IMAGE_LAYOUT_GENERAL;
-        filter->waitIdle();
+        run.filter->waitIdle();
         const double c1 = processCpuMs();
-        if (i < opt.warmup) continue;
-        cpu.push_back(c1 - c0);
-        host.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
-        hostCpu.push_back(h1 - h0);
-        if (auto t = filter->lastTimings()) gpu.push_back(t->totalMs);
+        if (warming) continue;
+        const auto t = run.filter->lastTimings();
+        run.cpu.push_back(c1 - c0);
+        run.host.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+        run.hostCpu.push_back(h1 - h0);
+        run.gpu.push_back(t ? t->totalMs : 0.0);
       }
-      for (const auto& image : in) filter->forgetImage(image->image());
-      for (const auto& image : out) filter->forgetImage(image->image());
-      if (opt.pipelines) printPipelines(m, filter->pipelines());
-      measured.push_back({median(gpu), minimum(gpu), median(cpu), median(host), median(hostCpu), model});
     }
-    const Measured& floorFirst = measured.front();
-    const Measured& floorLast = measured.back();
-    const Measured& floor = floorLast.gpuMs < floorFirst.gpuMs ? floorLast : floorFirst;
-    const double copyMinMs = std::min(floorFirst.gpuMinMs, floorLast.gpuMinMs);
-    for (size_t k = 0; k + 1 < methods.size(); ++k) {
-      const Measured& me = k == 0 ? floor : measured[k];
-      rows.push_back({size, k == 0 ? "copy (none)" : methods[k], me.gpuMs, floor.gpuMs, me.hostUs,
-                      me.hostCpuUs, k == 0 ? copyMinMs : me.gpuMinMs, copyMinMs, me.cpuMs, floor.cpuMs,
+    const Method& copy = runs.front();
+    for (size_t k = 0; k < runs.size(); ++k) {
+      Method& me = runs[k];
+      for (const auto& image : in) me.filter->forgetImage(image->image());
+      for (const auto& image : out) me.filter->forgetImage(image->image());
+      if (opt.pipelines) printPipelines(methods[k], me.filter->pipelines());
+      rows.push_back({size, k == 0 ? "copy (none)" : methods[k], median(me.gpu), median(copy.gpu),
+                      median(me.host), median(me.hostCpu), minimum(me.gpu), minimum(copy.gpu), median(me.cpu),
+                      median(copy.cpu), pairedRatio(me.gpu, copy.gpu), pairedRatio(me.cpu, copy.cpu),
                       me.model});
       const Row& r = rows.back();
-      const steadyxr::bench::Traffic& copyModel = floor.model;
       std::printf(
           "%5ux%-5u %-18s gpu %8.3f ms x%5.2f copy | model %4.1f B/px x%4.2f, ops %5.2f | "
           "min %8.3f ms x%5.2f | cpu %8.3f ms x%5.2f | host %7.1f us (thread cpu %5.1f)\n",
-          size.width, size.height, r.method.c_str(), r.gpuMs, r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0,
-          r.model.total(), r.model.total() / copyModel.total(),
-          r.model.fetches + r.model.samples + r.model.stores, r.gpuMinMs,
-          r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0, r.cpuMs,
-          r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0, r.hostUs, r.hostCpuUs);
+          size.width, size.height, r.method.c_str(), r.gpuMs, r.ratioToCopy, r.model.total(),
+          r.model.total() / copy.model.total(), r.model.fetches + r.model.samples + r.model.stores,
+          r.gpuMinMs, r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0, r.cpuMs, r.cpuRatioToCopy, r.hostUs,
+          r.hostCpuUs);
     }
-    std::printf("%5ux%-5u copy measured first %.3f ms, last %.3f ms (median)\n", size.width, size.height,
-                floorFirst.gpuMs, floorLast.gpuMs);
+    // What the pairing took out: the copy's own drift over the run (its first and last quarter).
+    const auto quarter = std::ptrdiff_t(std::min(copy.gpu.size(), std::max<size_t>(1, copy.gpu.size() / 4)));
+    const std::vector<double> firstQuarter(copy.gpu.begin(), copy.gpu.begin() + quarter);
+    const std::vector<double> lastQuarter(copy.gpu.end() - quarter, copy.gpu.end());
+    std::printf("%5ux%-5u copy's median over the first quarter of iterations %.3f ms, the last %.3f ms\n",
+                size.width, size.height, median(firstQuarter), median(lastQuarter));
     std::fflush(stdout);
   }
   std::printf(
@@ -441,20 +470,19 @@ int main(int argc, char** argv) {
   const double copyBytes = 2.0 * (opt.format == VK_FORMAT_R16G16B16A16_SFLOAT ? 8.0 : 4.0);
   for (const Row& r : rows)
     std::printf("| %ux%u | %s | %.3f | %.2f | %.0f+%.0f | %.2f | %.3f | %.2f | %.3f | %.2f | %.1f | %.1f |\n",
-                r.size.width, r.size.height, r.method.c_str(), r.gpuMs,
-                r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0, r.model.readBytes, r.model.writeBytes,
-                r.model.total() / copyBytes, r.gpuMinMs, r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0,
-                r.cpuMs, r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0, r.hostUs, r.hostCpuUs);
+                r.size.width, r.size.height, r.method.c_str(), r.gpuMs, r.ratioToCopy, r.model.readBytes,
+                r.model.writeBytes, r.model.total() / copyBytes, r.gpuMinMs,
+                r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0, r.cpuMs, r.cpuRatioToCopy, r.hostUs,
+                r.hostCpuUs);
   if (!opt.csv.empty()) {
     std::ofstream csv(opt.csv);
     csv << "width,height,method,gpu_ms,copy_ms,ratio_to_copy,gpu_min_ms,copy_min_ms,ratio_min,cpu_ms,copy_"
            "cpu_ms,ratio_cpu,host_us,host_cpu_us,model_bytes_per_px\n";
     for (const Row& r : rows)
       csv << r.size.width << "," << r.size.height << "," << r.method << "," << r.gpuMs << "," << r.copyMs
-          << "," << (r.copyMs > 0 ? r.gpuMs / r.copyMs : 0.0) << "," << r.gpuMinMs << "," << r.copyMinMs
-          << "," << (r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0) << "," << r.cpuMs << "," << r.copyCpuMs
-          << "," << (r.copyCpuMs > 0 ? r.cpuMs / r.copyCpuMs : 0.0) << "," << r.hostUs << "," << r.hostCpuUs
-          << "," << r.model.total() << "\n";
+          << "," << r.ratioToCopy << "," << r.gpuMinMs << "," << r.copyMinMs << ","
+          << (r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0) << "," << r.cpuMs << "," << r.copyCpuMs << ","
+          << r.cpuRatioToCopy << "," << r.hostUs << "," << r.hostCpuUs << "," << r.model.total() << "\n";
     if (!csv) {
       std::cerr << "could not write " << opt.csv << "\n";
       return 1;
