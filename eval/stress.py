@@ -271,7 +271,7 @@ def describe_motion(case):
 
 def print_table(cases):
     head = (f"{'case':9} {'scene':12} {'res':>3} {'ppd':>3} {'hz':>2} {'mip':>3} {'fr':>2} {'un/nz':>6}  {'picture':34}"
-            f" {'motion':46}"
+            f" {'motion':54}"
             f" {'p95':>6} {'def/none':>8} {'worst':>11} {'rec':>4} {'def/taa':>7}  verdict")
     print(head)
     print("-" * len(head))
@@ -293,7 +293,7 @@ def print_table(cases):
         extra = ("u" if c["unorm"] else "-") + "/" + (f"{c['noise']:.2f}" if c["noise"] > 0 else "-")
         print(f"{c['name']:9} {c['scene']:12} {c['resolution']:>3} {c['ppd']:>3g} {c['app_hz']:>2g}"
               f" {'y' if c['mipmaps'] else 'n':>3} {c['frames']:>2} {extra:>6}  {describe_picture(c)[:34]:34}"
-              f" {describe_motion(c)[:46]:46} {v['head_p95']:6.2f}"
+              f" {describe_motion(c)[:54]:54} {v['head_p95']:6.2f}"
               f" {v['mean_ratio']:8.3f} {worst:>11} {rec:>4} {v['taa_ratio']:7.3f}  "
               f"{'ok' if not flags else 'BROKEN ' + '+'.join(flags)}{why}")
         if "overlay_core_mean" in v:
