@@ -54,7 +54,8 @@ bool parseLocomotion(const std::string& spec, Locomotion* out, std::string* erro
              (found->kind == LocomotionKind::Turn   ? " deg/s"
               : found->kind == LocomotionKind::Snap ? " deg"
                                                     : " m/s") +
-             " after the colon, e.g. " + kind + ":" + (found->kind == LocomotionKind::Snap ? "30" : "1");
+             " after the colon, e.g. " + kind + ":" +
+             (found->kind == LocomotionKind::Snap || found->kind == LocomotionKind::Turn ? "30" : "1");
     return false;
   }
   out->kind = found->kind;
