@@ -202,12 +202,13 @@ int runSuite(const Options& o) {
       return 2;
     }
     const double start = sc.startSec >= 0.0 ? sc.startSec : o.startSec;
+    const double firstFrameSec = start - sc.leadSec;  // on the motion stream's clock
     Scene scene;
     // --ppd stretches a scene in metres about the first frame's head (scene.h, makeScene).
     // (Asked only under --ppd: without it the stream sees the calls it always saw.)
     HeadPose ppdStartHead;
     if (o.ppd > 0.0) {
-      const imu::MotionState firstMotion = stream->at(std::max(0.0, start - sc.leadSec));
+      const imu::MotionState firstMotion = stream->at(std::max(0.0, firstFrameSec));
       ppdStartHead = HeadPose{glm::normalize(firstMotion.orientation), firstMotion.position};
     }
     if (!makeScene(sc.scene, sc.picture, textures, ppdTangentScale(o.ppd, o.width), ppdStartHead, &scene,
@@ -215,8 +216,7 @@ int runSuite(const Options& o) {
       std::cerr << "steadyxr-eval: " << error << "\n";
       return 2;
     }
-    const double lastSec =
-        start - sc.leadSec + (o.frames - 1) * dt + std::max(o.warpSteps, ratio) / o.displayHz;
+    const double lastSec = firstFrameSec + (o.frames - 1) * dt + std::max(o.warpSteps, ratio) / o.displayHz;
     if (stream->validUntilSec() < lastSec) {
       // A trace shorter than the run is an error, not a silently held last pose.
       std::cerr << "steadyxr-eval: motion '" << sc.motion << "' ends at " << stream->validUntilSec()
@@ -229,7 +229,6 @@ int runSuite(const Options& o) {
       const imu::MotionState m = stream->at(std::max(0.0, t));
       return HeadPose{glm::normalize(m.orientation), m.position + scene.headOffset(t)};
     };
-    const double firstFrameSec = start - sc.leadSec;
     const RigSchedule rig{(o.frames - 1) * dt, trackedAt(firstFrameSec),
                           1.0 / ppdTangentScale(o.ppd, o.width)};
     auto headAt = [&](double t) { return rigPose(o.locomotion, rig, trackedAt(t), t - firstFrameSec); };
@@ -259,7 +258,7 @@ int runSuite(const Options& o) {
     auto active = [&](const Variant& v) { return (!v.sweep || sc.sweeps) && (!v.oracle || oracleHere); };
 
     for (int f = 0; f < o.frames; ++f) {
-      const double t = start - sc.leadSec + f * dt;
+      const double t = firstFrameSec + f * dt;
       const HeadPose head = headAt(t);
       // The head's angular speed at the frame (the stream's angular velocity: a trace's wx,wy,wz,
       // the IMU path's gyro), not a difference of two frames' poses.
@@ -489,8 +488,8 @@ int runSuite(const Options& o) {
     }
 
     // Rows of this scenario.
-    std::vector<int> changes = motionChangeFrames(sc, *stream, headSpeeds, start - sc.leadSec, dt, o.frames);
-    addContentChangeFrames(scene, start - sc.leadSec, dt, o.frames, &changes);  // video, fade, blink
+    std::vector<int> changes = motionChangeFrames(sc, *stream, headSpeeds, firstFrameSec, dt, o.frames);
+    addContentChangeFrames(scene, firstFrameSec, dt, o.frames, &changes);  // video, fade, blink
     addChangeFrames(locomotionChangeTimes(o.locomotion, rig), 0.0, dt, o.frames, &changes);
     const CaseFacts facts{safeDiv(gtStereoSum, gtStereoN),
                           changes,
