@@ -22,10 +22,13 @@ constexpr KindName kKinds[] = {{LocomotionKind::Turn, "turn", 360.0},
                                {LocomotionKind::Forward, "forward", 10.0},
                                {LocomotionKind::Snap, "snap", 180.0}};
 
-// The stick's hold: the fraction of [on, off] passed at t, times its length (seconds moved).
+// The schedule (locomotion.h), as fractions of the run: the stick's press and release, the snap and back.
+constexpr double kStickOn = 1.0 / 4.0, kStickOff = 3.0 / 4.0;
+constexpr double kSnapTurn = 1.0 / 3.0, kSnapBack = 2.0 / 3.0;
+
+// Seconds the stick has been held at t.
 double secondsMoved(const RigSchedule& s, double t) {
-  const double on = s.runSec / 4.0, off = 3.0 * s.runSec / 4.0;
-  return std::clamp(t, on, off) - on;
+  return std::clamp(t, kStickOn * s.runSec, kStickOff * s.runSec) - kStickOn * s.runSec;
 }
 
 }  // namespace
@@ -82,6 +85,7 @@ bool rigMoves(const Locomotion& l) {
 }
 
 HeadPose rigPose(const Locomotion& l, const RigSchedule& s, const HeadPose& tracked, double t) {
+  if (l.kind == LocomotionKind::None) return tracked;
   float yawDeg = 0.0f;
   glm::vec3 walk(0.0f);
   // The start view's level axes: a walk keeps to the floor whatever the head's pitch.
@@ -93,7 +97,7 @@ HeadPose rigPose(const Locomotion& l, const RigSchedule& s, const HeadPose& trac
   const float metres = float(l.amount * s.translationScale * secondsMoved(s, t));
   switch (l.kind) {
     case LocomotionKind::None:
-      return tracked;
+      break;
     case LocomotionKind::Turn:
       yawDeg = float(l.amount * secondsMoved(s, t));
       break;
@@ -104,7 +108,7 @@ HeadPose rigPose(const Locomotion& l, const RigSchedule& s, const HeadPose& trac
       walk = forward * metres;
       break;
     case LocomotionKind::Snap:
-      yawDeg = t >= s.runSec / 3.0 && t < 2.0 * s.runSec / 3.0 ? float(l.amount) : 0.0f;
+      yawDeg = t >= kSnapTurn * s.runSec && t < kSnapBack * s.runSec ? float(l.amount) : 0.0f;
       break;
   }
   const glm::quat yaw = glm::angleAxis(glm::radians(yawDeg), glm::vec3(0, 1, 0));
@@ -116,8 +120,8 @@ HeadPose rigPose(const Locomotion& l, const RigSchedule& s, const HeadPose& trac
 
 std::vector<double> locomotionChangeTimes(const Locomotion& l, const RigSchedule& s) {
   if (!rigMoves(l)) return {};
-  if (l.kind == LocomotionKind::Snap) return {s.runSec / 3.0, 2.0 * s.runSec / 3.0};
-  return {s.runSec / 4.0, 3.0 * s.runSec / 4.0};
+  if (l.kind == LocomotionKind::Snap) return {kSnapTurn * s.runSec, kSnapBack * s.runSec};
+  return {kStickOn * s.runSec, kStickOff * s.runSec};
 }
 
 }  // namespace steadyxr::eval
