@@ -76,18 +76,25 @@ TEST_F(CoreTest, JitteredInputWithZeroJitterMatchesPlainFetch) {
 
 // FilterOptions::compileInBackground: frames are refused (compiling() true, the caller passes them
 // through) until the pipelines are ready, and never stall for the compile; the first filtered
-// frame then matches a synchronously compiled filter's first frame.
+// frame then matches a synchronously compiled filter's first frame. Filters on one context share
+// their pipelines (VulkanContext's pipeline store).
 TEST_F(CoreTest, BackgroundCompileRefusesFramesUntilReady) {
   const uint32_t W = 40, H = 32;
   const Params p = *applyMethodName("default");
   std::string err;
+  // A context of its own: on the suite's, an earlier test may have compiled the default's pipelines
+  // already, and every filter on a context shares them.
+  OwnedContextOptions options;
+  options.enableValidation = true;
+  auto fresh = VulkanContext::createOwned(options, &err);
+  ASSERT_TRUE(fresh) << err;
   FilterOptions background;
   background.compileInBackground = true;
-  auto f = Filter::create(*gCtx, p, &err, background);
+  auto f = Filter::create(*fresh, p, &err, background);
   ASSERT_TRUE(f) << err;
   auto reference = Filter::create(*gCtx, p, &err);
   ASSERT_TRUE(reference) << err;
-  Rig rig(W, H), referenceRig(W, H);
+  Rig rig(*fresh, W, H), referenceRig(W, H);
   Frame fr;
   fr.views = {eye(0.3f, 0.1f, {-0.032f, 0, 0}), eye(0.3f, 0.1f, {0.032f, 0, 0})};
   fr.color = {pattern(W, H, 61, 0.05f), pattern(W, H, 62, 0.05f)};
@@ -109,4 +116,28 @@ TEST_F(CoreTest, BackgroundCompileRefusesFramesUntilReady) {
     const Diff d = compare(out[size_t(e)], want[size_t(e)]);
     EXPECT_LE(d.maxAbs, 1e-6f) << "eye " << e;
   }
+
+  // The pipelines are the context's: a second filter there filters its first frame at once, and lists
+  // only the pipelines it used itself (not the first filter's when its method needs others).
+  auto second = Filter::create(*fresh, p, &err, background);
+  ASSERT_TRUE(second) << err;
+  Rig secondRig(*fresh, W, H);
+  const auto again = secondRig.run(*second, fr, 2, &submitted);
+  EXPECT_TRUE(submitted) << "the second filter compiled its pipelines again";
+  for (int e = 0; e < 2; ++e)
+    EXPECT_LE(compare(again[size_t(e)], want[size_t(e)]).maxAbs, 1e-6f) << "eye " << e;
+  auto copyOnly = Filter::create(*fresh, *applyMethodName("none"), &err, background);
+  ASSERT_TRUE(copyOnly) << err;
+  Rig copyRig(*fresh, W, H);
+  for (int i = 0; i < 6000; ++i) {
+    copyRig.run(*copyOnly, fr, 2, &submitted);
+    if (submitted) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(submitted);
+  for (const PipelineDescription& d : copyOnly->pipelines()) EXPECT_EQ(d.pass, "copy");
+  EXPECT_FALSE(copyOnly->pipelines().empty());
+  EXPECT_GT(f->pipelines().size(), copyOnly->pipelines().size());
+  EXPECT_EQ(fresh->validationMessageCount(), 0u)
+      << "validation: " << (fresh->validationMessages().empty() ? "" : fresh->validationMessages().front());
 }

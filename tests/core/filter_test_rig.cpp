@@ -14,12 +14,13 @@ using core::Params;
 using core::StereoFrame;
 using core::StereoOutput;
 
-Rig::Rig(uint32_t w, uint32_t h, VkFormat inFmt, VkFormat outFmt, VkImageUsageFlags outUsage, bool outMutable)
+Rig::Rig(core::VulkanContext& ctx, uint32_t w, uint32_t h, VkFormat inFmt, VkFormat outFmt,
+         VkImageUsageFlags outUsage, bool outMutable)
     : w_(w), h_(h) {
   for (int e = 0; e < 2; ++e) {
-    in_[e] = std::make_unique<GpuImage>(*gCtx, inFmt, w, h, 1, VK_IMAGE_USAGE_SAMPLED_BIT);
-    out_[e] = std::make_unique<GpuImage>(*gCtx, outFmt, w, h, 1, outUsage, outMutable);
-    depth_[e] = std::make_unique<GpuImage>(*gCtx, VK_FORMAT_D32_SFLOAT, w, h, 1, VK_IMAGE_USAGE_SAMPLED_BIT);
+    in_[e] = std::make_unique<GpuImage>(ctx, inFmt, w, h, 1, VK_IMAGE_USAGE_SAMPLED_BIT);
+    out_[e] = std::make_unique<GpuImage>(ctx, outFmt, w, h, 1, outUsage, outMutable);
+    depth_[e] = std::make_unique<GpuImage>(ctx, VK_FORMAT_D32_SFLOAT, w, h, 1, VK_IMAGE_USAGE_SAMPLED_BIT);
   }
 }
 

@@ -50,6 +50,11 @@ class Rig {
  public:
   Rig(uint32_t w, uint32_t h, VkFormat inFmt = VK_FORMAT_R16G16B16A16_SFLOAT,
       VkFormat outFmt = VK_FORMAT_R16G16B16A16_SFLOAT,
+      VkImageUsageFlags outUsage = VK_IMAGE_USAGE_STORAGE_BIT, bool outMutable = false)
+      : Rig(*gCtx, w, h, inFmt, outFmt, outUsage, outMutable) {}
+  // On another context than the suite's (its filters' pipelines are that context's own).
+  Rig(core::VulkanContext& ctx, uint32_t w, uint32_t h, VkFormat inFmt = VK_FORMAT_R16G16B16A16_SFLOAT,
+      VkFormat outFmt = VK_FORMAT_R16G16B16A16_SFLOAT,
       VkImageUsageFlags outUsage = VK_IMAGE_USAGE_STORAGE_BIT, bool outMutable = false);
   // submitted: where to put submit()'s result; without it the submit must succeed.
   std::array<HostImage, 2> run(core::Filter& f, const Frame& fr, uint32_t viewCount = 2,

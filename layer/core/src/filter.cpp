@@ -19,7 +19,9 @@ std::unique_ptr<Filter> Filter::create(VulkanContext& context, const Params& par
     if (error) *error = msg;
     return nullptr;
   }
-  auto impl = std::make_unique<Impl>(context, options);
+  detail::PipelineStore* store = context.pipelineStore(error);
+  if (!store) return nullptr;
+  auto impl = std::make_unique<Impl>(context, *store, options);
   impl->params = p;
   impl->pendingParams = p;
   if (!impl->init(error)) return nullptr;

@@ -31,8 +31,8 @@ struct Filter::Impl {
 
   Unique<VkSampler> sampler;         // linear: colour
   Unique<VkSampler> samplerNearest;  // depth (texelFetch only)
-  Unique<VkDescriptorSetLayout> setLayout;
-  Unique<VkPipelineLayout> pipelineLayout;
+  VkDescriptorSetLayout setLayout;   // the context's pipeline store owns both layouts
+  VkPipelineLayout pipelineLayout;
   detail::PipelineCache pipelines;
   std::array<detail::Slot, detail::kSlots> slots;
   std::array<detail::EyeState, 2> eyes;
@@ -48,8 +48,12 @@ struct Filter::Impl {
   detail::NoiseTracker noiseTracker;
   uint64_t noiseNextFrame = 0;  // frames before it are read, or from before the last reset
 
-  Impl(VulkanContext& c, const FilterOptions& options)
-      : ctx(c), device(c.device()), pipelines(c.device(), options.compileInBackground) {}
+  Impl(VulkanContext& c, detail::PipelineStore& store, const FilterOptions& options)
+      : ctx(c),
+        device(c.device()),
+        setLayout(store.setLayout()),
+        pipelineLayout(store.layout()),
+        pipelines(store, options.compileInBackground) {}
   ~Impl() { waitAll(); }
 
   // Resources (filter_resources.cpp).

@@ -128,29 +128,38 @@ PipelineSlot::~PipelineSlot() {
   if (c.pipeline) vkDestroyPipeline(device, c.pipeline, nullptr);
 }
 
-VkPipeline PipelineCache::get(Pass pass, OutFmt fmt, const SpecKey& spec, std::string* error) {
-  PipelineSlot& slot = slots_[{pass, fmt, spec}];
+bool PipelineStore::init(std::string* error) {
+  if (createPassLayouts(device_, &setLayout_, &layout_)) return true;
+  fail(error, "the passes' descriptor set or pipeline layout");
+  return false;
+}
+
+VkPipeline PipelineStore::get(const PipelineKey& key, bool background, bool* compiling, std::string* error) {
+  std::lock_guard lock(mutex_);
+  PipelineSlot& slot = slots_[key];
   if (slot.pipeline) return slot.pipeline.get();
   if (!slot.error.empty()) {  // failed before: not retried every frame
     fail(error, slot.error);
     return VK_NULL_HANDLE;
   }
   slot.device = device_;
+  const auto& [pass, fmt, spec] = key;
   if (!slot.pending.valid()) {
-    if (background_) {
+    if (background) {
       try {
-        slot.pending = std::async(std::launch::async, compilePipeline, device_, layout_, pass, fmt, spec, 0);
+        slot.pending =
+            std::async(std::launch::async, compilePipeline, device_, layout_.get(), pass, fmt, spec, 0);
       } catch (const std::system_error&) {  // no thread to be had: compile here instead
       }
     }
     if (!slot.pending.valid()) {
       std::promise<CompiledPipeline> now;
-      now.set_value(compilePipeline(device_, layout_, pass, fmt, spec, 0));
+      now.set_value(compilePipeline(device_, layout_.get(), pass, fmt, spec, 0));
       slot.pending = now.get_future();
     }
   }
   if (slot.pending.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
-    compiling = true;
+    *compiling = true;
     fail(error, "the filter's pipelines are still compiling");
     return VK_NULL_HANDLE;
   }
@@ -164,11 +173,16 @@ VkPipeline PipelineCache::get(Pass pass, OutFmt fmt, const SpecKey& spec, std::s
   return c.pipeline;
 }
 
+VkPipeline PipelineCache::get(Pass pass, OutFmt fmt, const SpecKey& spec, std::string* error) {
+  const PipelineKey key{pass, fmt, spec};
+  const VkPipeline p = store_.get(key, background_, &compiling, error);
+  if (p) used_.insert(key);
+  return p;
+}
+
 std::vector<PipelineDescription> PipelineCache::made() const {
   std::vector<PipelineDescription> out;
-  for (const auto& [key, slot] : slots_) {
-    if (!slot.pipeline) continue;
-    const auto& [pass, fmt, spec] = key;
+  for (const auto& [pass, fmt, spec] : used_) {
     out.push_back({passName(pass), outFmtName(fmt), std::vector<int32_t>(spec.begin(), spec.end())});
   }
   return out;

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <future>
 #include <map>
+#include <mutex>
+#include <set>
 #include <string>
 #include <tuple>
 
@@ -50,7 +52,7 @@ const char* outFmtName(OutFmt fmt);
 bool parsePass(const std::string& name, Pass* pass);
 bool parseOutFmt(const std::string& name, OutFmt* fmt);
 
-// One pipeline of the cache: made, being compiled on a worker thread, or failed.
+// One pipeline of the store: made, being compiled on a worker thread, or failed.
 struct PipelineSlot {
   Unique<VkPipeline> pipeline;
   std::future<CompiledPipeline> pending;
@@ -63,24 +65,46 @@ struct PipelineSlot {
   ~PipelineSlot();
 };
 
-// Pipelines by (pass, output format, specialisation). A pipeline not yet made is compiled on a
-// worker thread (compileInBackground) or at once; while one compiles, get() returns null and sets
-// compiling, and the caller passes the frame through.
-class PipelineCache {
- public:
-  PipelineCache(VkDevice device, bool compileInBackground)
-      : device_(device), background_(compileInBackground) {}
-  void setLayout(VkPipelineLayout layout) { layout_ = layout; }
+using PipelineKey = std::tuple<Pass, OutFmt, SpecKey>;
 
-  VkPipeline get(Pass pass, OutFmt fmt, const SpecKey& spec, std::string* error);
-  std::vector<PipelineDescription> made() const;  // the pipelines compiled so far
-  bool compiling = false;                         // a get() of this frame found its pipeline still compiling
+// The compiled passes every Filter on one VulkanContext shares, with the layouts they are made for
+// (VulkanContext owns it). A pipeline belongs to the device, not to one filter: a second filter
+// with the same passes (a test's, the evaluation's methods, a method switched back) compiles
+// nothing again, where each used to pay lavapipe about 0.4 s a pipeline. Thread-safe.
+class PipelineStore {
+ public:
+  explicit PipelineStore(VkDevice device) : device_(device) {}
+  bool init(std::string* error);  // the layouts
+  VkDescriptorSetLayout setLayout() const { return setLayout_.get(); }
+  VkPipelineLayout layout() const { return layout_.get(); }
+
+  // The key's pipeline once it is made. Not made yet: compiled at once, or (background) on a worker
+  // thread, returning null with *compiling set until it is ready. A failed compile is not retried.
+  VkPipeline get(const PipelineKey& key, bool background, bool* compiling, std::string* error);
 
  private:
   VkDevice device_;
-  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  Unique<VkDescriptorSetLayout> setLayout_;
+  Unique<VkPipelineLayout> layout_;
+  std::mutex mutex_;
+  std::map<PipelineKey, PipelineSlot> slots_;  // declared last: destroyed (and joined) before the layouts
+};
+
+// One filter's view of the store: how it compiles (compileInBackground) and which pipelines it used.
+// While one compiles, get() returns null and sets compiling, and the caller passes the frame through.
+class PipelineCache {
+ public:
+  PipelineCache(PipelineStore& store, bool compileInBackground)
+      : store_(store), background_(compileInBackground) {}
+
+  VkPipeline get(Pass pass, OutFmt fmt, const SpecKey& spec, std::string* error);
+  std::vector<PipelineDescription> made() const;  // the pipelines this filter used so far
+  bool compiling = false;                         // a get() of this frame found its pipeline still compiling
+
+ private:
+  PipelineStore& store_;
   bool background_;
-  std::map<std::tuple<Pass, OutFmt, SpecKey>, PipelineSlot> slots_;
+  std::set<PipelineKey> used_;
 };
 
 }  // namespace steadyxr::core::detail

@@ -160,7 +160,7 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
   dsai.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
   dsai.descriptorPool = s.descriptorPool.get();
   dsai.descriptorSetCount = 1;
-  const VkDescriptorSetLayout dsl = setLayout.get();
+  const VkDescriptorSetLayout dsl = setLayout;
   dsai.pSetLayouts = &dsl;
   VkDescriptorSet set = VK_NULL_HANDLE;
   if (vkAllocateDescriptorSets(device, &dsai, &set) != VK_SUCCESS)
@@ -209,7 +209,7 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
   vkUpdateDescriptorSets(device, static_cast<uint32_t>(w.size()), w.data(), 0, nullptr);
   if (p != rec.bound) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p);
   rec.bound = p;
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout.get(), 0, 1, &set, 0, nullptr);
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout, 0, 1, &set, 0, nullptr);
   // blocked: each invocation handles 4x4 pixels (kBlockW x kBlockH); the probe's, one block of its own
   const uint32_t invocationPx = d.switches.probe ? static_cast<uint32_t>(d.uniforms.probeBlockPx)
                                 : blocked        ? 4

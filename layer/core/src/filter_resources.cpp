@@ -12,7 +12,6 @@
 
 namespace steadyxr::core {
 
-using detail::createPassLayouts;
 using detail::fail;
 using detail::kMaxDispatches;
 using detail::kQueries;
@@ -126,10 +125,6 @@ bool Filter::Impl::init(std::string* error) {
   if (vkCreateSampler(device, &sci, nullptr, &smp) != VK_SUCCESS)
     return fail(error, "vkCreateSampler failed"), false;
   samplerNearest = Unique<VkSampler>(device, smp);
-
-  if (!createPassLayouts(device, &setLayout, &pipelineLayout))
-    return fail(error, "the passes' descriptor set or pipeline layout"), false;
-  pipelines.setLayout(pipelineLayout.get());
 
   for (auto& s : slots) {
     VkCommandPoolCreateInfo cpci{};

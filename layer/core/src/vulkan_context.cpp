@@ -3,6 +3,8 @@
 #include <cstring>
 #include <mutex>
 
+#include "filter_pipelines.h"
+
 namespace steadyxr::core {
 
 struct VulkanContext::Impl {
@@ -19,8 +21,12 @@ struct VulkanContext::Impl {
   mutable std::mutex messagesMutex;  // the validation callback may run on any thread
   std::vector<std::string> messages;
 
+  std::mutex pipelineStoreMutex;  // filters may be made on more than one thread
+  std::unique_ptr<detail::PipelineStore> pipelineStore;
+
   ~Impl() {
-    if (!owned) return;  // borrowed handles belong to the application
+    pipelineStore.reset();  // its pipelines and layouts go before the device, borrowed or not
+    if (!owned) return;     // borrowed handles belong to the application
     if (device) {
       vkDeviceWaitIdle(device);
       vkDestroyDevice(device, nullptr);
@@ -214,6 +220,16 @@ std::unique_ptr<VulkanContext> VulkanContext::borrow(const BorrowedHandles& h, s
   vkGetPhysicalDeviceProperties(h.physicalDevice, &impl->props);
   vkGetPhysicalDeviceMemoryProperties(h.physicalDevice, &impl->memProps);
   return std::unique_ptr<VulkanContext>(new VulkanContext(std::move(impl)));
+}
+
+detail::PipelineStore* VulkanContext::pipelineStore(std::string* error) {
+  std::lock_guard lock(impl_->pipelineStoreMutex);
+  if (!impl_->pipelineStore) {
+    auto store = std::make_unique<detail::PipelineStore>(impl_->device);
+    if (!store->init(error)) return nullptr;
+    impl_->pipelineStore = std::move(store);
+  }
+  return impl_->pipelineStore.get();
 }
 
 VkInstance VulkanContext::instance() const {

@@ -12,6 +12,11 @@
 
 namespace steadyxr::core {
 
+class Filter;
+namespace detail {
+class PipelineStore;
+}
+
 struct OwnedContextOptions {
   bool enableValidation = false;  // VK_LAYER_KHRONOS_validation + a messenger that counts messages
   bool preferCpuDevice = true;    // pick VK_PHYSICAL_DEVICE_TYPE_CPU (lavapipe) when present
@@ -58,6 +63,11 @@ class VulkanContext {
   struct Impl;
 
  private:
+  friend class Filter;
+  // The compiled passes every Filter on this context shares, made on first use (null, with *error,
+  // when its layouts cannot be made). Destroyed with the context, before an owned device.
+  detail::PipelineStore* pipelineStore(std::string* error);
+
   explicit VulkanContext(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
