@@ -175,14 +175,16 @@ VkPipeline PipelineStore::get(const PipelineKey& key, bool background, bool* com
 
 VkPipeline PipelineCache::get(Pass pass, OutFmt fmt, const SpecKey& spec, std::string* error) {
   const PipelineKey key{pass, fmt, spec};
+  if (const auto it = used_.find(key); it != used_.end()) return it->second;  // every frame: no lock
   const VkPipeline p = store_.get(key, background_, &compiling, error);
-  if (p) used_.insert(key);
+  if (p) used_.emplace(key, p);
   return p;
 }
 
 std::vector<PipelineDescription> PipelineCache::made() const {
   std::vector<PipelineDescription> out;
-  for (const auto& [pass, fmt, spec] : used_) {
+  for (const auto& [key, pipeline] : used_) {
+    const auto& [pass, fmt, spec] = key;
     out.push_back({passName(pass), outFmtName(fmt), std::vector<int32_t>(spec.begin(), spec.end())});
   }
   return out;

@@ -6,7 +6,6 @@
 #include <future>
 #include <map>
 #include <mutex>
-#include <set>
 #include <string>
 #include <tuple>
 
@@ -104,7 +103,7 @@ class PipelineCache {
  private:
   PipelineStore& store_;
   bool background_;
-  std::set<PipelineKey> used_;
+  std::map<PipelineKey, VkPipeline> used_;  // the store's, which outlives the filter
 };
 
 }  // namespace steadyxr::core::detail
