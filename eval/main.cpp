@@ -55,7 +55,8 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        frame's own detail alone), noisechange=0 (round 14's, no
                        test for a change as a whole), gain=0 (round 15's: no gain
                        compensation), gainall=0 (round 16's: the relit history
-                       only where the box rejects the history), noisevar=V (a noise variance
+                       only where the box rejects the history), cut=0 (round 30's: no
+                       fresh start where the pose does not explain a frame), noisevar=V (a noise variance
                        told instead; -1: the scene's own), history=16|8
                        (the history's bits per channel) and dither=0|1 after history=8
                        (default: all + sweeps)

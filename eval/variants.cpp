@@ -137,6 +137,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
       params->steadyGainCompensation = value != 0.0f;
     else if (key == "gainall")  // round 17 (the default): 0 = round 16's rule, the box-rejected history alone
       params->steadyGainRelightsAdmitted = value != 0.0f;
+    else if (key == "cut")  // round 31 (the default): a frame the pose does not explain starts afresh
+      params->steadyUnexplainedFrameResets = value != 0.0f;
     else if (key == "noisetime")  // round 14: 0 = round 13's estimate, the frame's own detail alone
       params->steadyNoiseResidualOverTime = value != 0.0f;
     else if (key == "noisevar") {  // told instead: a variance per linear RGB channel, < 0: the scene's own

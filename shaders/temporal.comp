@@ -238,17 +238,37 @@ void addNoiseSample(float absDetail, int histogram) {
 //   difference (units as the residual's) and the samples.
 // The sums are added up in the workgroup first and added to the records once per workgroup (integer
 // sums: the same in any order; few adds to the same words, which a GPU's atomics serialise).
-shared uint sProbeSums[6];  // the gain's four sums, then the residual's two
-const int kProbeSumsGain = 0, kProbeSumsResidual = 4;
+// - Round 31 (bit 11): at the same samples, the luma's mean over a block of 4x4 pixels in this frame and in
+//   the history reprojected to it: the magnitude of their difference, and of the difference between the
+//   frame's block and its neighbours a block to the right and below (averaged). Words 4 and 5 of the record.
+shared uint sProbeSums[8];  // the gain's four sums, the residual's two, the blocks' two (round 31)
+const int kProbeSumsGain = 0, kProbeSumsResidual = 4, kProbeSumsBlocks = 6;
+// Round 31: the luma's mean over the 4x4 texels of src0 around the texel corner `corner` (centres corner
+// +- 0.5, +- 1.5), and the history's over the same area around q: four bilinear taps at texel corners, each
+// the mean of a 2x2 quad (a quad's corner kept a texel inside the image: its texels are the eye's own).
+float frameQuadLuma(vec2 corner) {
+  const vec2 q = clamp(corner, vec2(1.0), vec2(P.src0Size) - 1.0);
+  const vec3 c = textureLod(uSrc0, (vec2(P.src0Offset) + q) * P.src0InvExtent, 0.0).rgb;
+  return toYCoCg((kCleanSrc & 1) != 0 ? c : sanitize(c)).x;
+}
+float frameBlockLuma(ivec2 corner) {
+  const vec2 c = vec2(corner);
+  return 0.25 * (frameQuadLuma(c + vec2(-1.0, -1.0)) + frameQuadLuma(c + vec2(1.0, -1.0)) +
+                 frameQuadLuma(c + vec2(-1.0, 1.0)) + frameQuadLuma(c + vec2(1.0, 1.0)));
+}
+float historyBlockLuma(vec2 q) {
+  return 0.25 * (toYCoCg(sampleHistory(q + vec2(-1.0, -1.0))).x + toYCoCg(sampleHistory(q + vec2(1.0, -1.0))).x +
+                 toYCoCg(sampleHistory(q + vec2(-1.0, 1.0))).x + toYCoCg(sampleHistory(q + vec2(1.0, 1.0))).x);
+}
 void probeFrame(ivec2 p) {
-  // The switches spelled out (bits 4, 5, 6), as in main: glslang defines a spec constant's expression with
+  // The switches spelled out (bits 4, 5, 6, 11), as in main: glslang defines a spec constant's expression with
   // && where it is first used, and a later use in a block that does not follow it is invalid SPIR-V.
   const bool noiseSampled = (kSteadyBoxSwitches & 16) != 0, residualSampled = (kSteadyBoxSwitches & 32) != 0;
-  const bool probesGain = (kSteadyBoxSwitches & 64) != 0;
+  const bool probesGain = (kSteadyBoxSwitches & 64) != 0, blocksProbed = (kSteadyBoxSwitches & 2048) != 0;
   const bool jittered = kJitter && any(notEqual(P.jitterPx, vec2(0.0)));
   const bool leader = gl_LocalInvocationIndex == 0u;
   if (leader)
-    for (int i = 0; i < 6; ++i) sProbeSums[i] = 0u;
+    for (int i = 0; i < 8; ++i) sProbeSums[i] = 0u;
   barrier();
   if (all(lessThan(p, P.src0Size))) {
     vec3 centre;
@@ -275,6 +295,14 @@ void probeFrame(ivec2 p) {
         atomicAdd(sProbeSums[kProbeSumsGain + 2],
                   uint(round(min(abs(currentLuma - historyLuma), 0.5) * kResidualSumScale)));
         atomicAdd(sProbeSums[kProbeSumsGain + 3], 1u);
+        if (blocksProbed) {  // p + 1: the block's centre is the pixel's lower right corner, q + 0.5 in the history
+          const float block = frameBlockLuma(p + 1), blockBefore = historyBlockLuma(q + 0.5);
+          const float blockStep =
+              0.5 * (abs(frameBlockLuma(p + ivec2(5, 1)) - block) + abs(frameBlockLuma(p + ivec2(1, 5)) - block));
+          const float blockChange = isnan(blockBefore) ? 0.0 : abs(block - blockBefore);
+          atomicAdd(sProbeSums[kProbeSumsBlocks], uint(round(min(blockChange, 0.5) * kResidualSumScale)));
+          atomicAdd(sProbeSums[kProbeSumsBlocks + 1], uint(round(min(blockStep, 0.5) * kResidualSumScale)));
+        }
       }
     }
   }
@@ -285,8 +313,11 @@ void probeFrame(ivec2 p) {
     atomicAdd(noiseBins[residualSums], sProbeSums[kProbeSumsResidual]);
     atomicAdd(noiseBins[residualSums + 1], sProbeSums[kProbeSumsResidual + 1]);
   }
-  if (probesGain && sProbeSums[kProbeSumsGain + 3] != 0u)
+  if (probesGain && sProbeSums[kProbeSumsGain + 3] != 0u) {
     for (int i = 0; i < 4; ++i) atomicAdd(noiseBins[kGainBase + i], sProbeSums[kProbeSumsGain + i]);
+    if (blocksProbed)
+      for (int i = 0; i < 2; ++i) atomicAdd(noiseBins[kGainBase + 4 + i], sProbeSums[kProbeSumsBlocks + i]);
+  }
 }
 // The frame's gain from the probe's record: this frame's luma over the history's where the mean of
 // their difference lies 4 standard errors or more from 0 (round 15's test, noise_estimate.h,
@@ -298,6 +329,16 @@ void probeFrame(ivec2 p) {
 // cancel in the sum. (The footprint filter on square roots leaves a still picture's history 0.07 % dark:
 // significant, one-signed, and well under the floor.)
 bool gGainExplains = false;
+// Round 31 (Params::steadyUnexplainedFrameResets, bit 11): a frame its pose does not explain. Where the
+// history's 4x4 blocks, reprojected through the pose, differ from the frame's by more than the frame's
+// blocks differ from their neighbours a block away, the history is misplaced by about a block or more as a
+// whole (a ramp shifted s px differs by s / 4 of a block's step): the app moved its rig (a snap turn) and
+// submitted the tracked head's pose, or the pose is wrong. Every pixel then starts afresh, as after a
+// disocclusion: a box cannot tell a misplaced repeating texture from its own content. On blocks, not
+// pixels: a thin wire that the point samples miss in one frame and hit in the next changes its pixels by
+// more than their steps, under a pose that explains it; a block holds its coverage. Not where the gain
+// explains the change (a fade), and not where the blocks' change is under the box's floor (rounding).
+bool gPoseUnexplained = false;
 float frameGain() {
   const uint current = noiseBins[kGainBase], history = noiseBins[kGainBase + 1];
   const uint magnitude = noiseBins[kGainBase + 2], samples = noiseBins[kGainBase + 3];
@@ -311,6 +352,16 @@ float frameGain() {
   const bool relightsAdmitted = (kSteadyBoxSwitches & 256) != 0;  // spelled out: see main
   gGainExplains = relightsAdmitted && meanDifference * meanDifference >= kQuantVar * floorSlope2(historyMean) &&
                   abs(meanDifference) >= 0.5 * meanMagnitude;
+  const float meanChange = float(noiseBins[kGainBase + 4]) / (kResidualSumScale * n);
+  const float meanStep = float(noiseBins[kGainBase + 5]) / (kResidualSumScale * n);
+  const bool resets = (kSteadyBoxSwitches & 2048) != 0;  // spelled out: see main
+  // Noise alone gives a change <= the step (a history as noisy as the frame: equal), so the test is that
+  // the change exceeds the step by 4 standard errors of their ratio (each mean's relative error a
+  // half-normal's, sqrt(pi / 2 - 1) / sqrt(n); the ratio's at most sqrt(2) times that): 1.09 at 2048 samples.
+  const float ratioStandardError = sqrt(2.0 * (0.5 * kPi - 1.0)) * inversesqrt(n);
+  const bool changeAboveFloor = meanChange * meanChange >= kQuantVar * floorSlope2(historyMean);
+  gPoseUnexplained = resets && changeAboveFloor && meanChange >= meanStep * (1.0 + 4.0 * ratioStandardError) &&
+                     abs(meanDifference) < 0.5 * meanMagnitude;
   return significant ? float(current) / float(history) : 1.0;
 }
 float gFrameGain = 1.0;
@@ -385,7 +436,7 @@ void processPixel(ivec2 p, ivec2 o) {
     // sigma (t > 1), and alpha raised so that the resampling blur of the history stays bounded.
     vec2 q;
     float iz;
-    const bool confirmed = reproject(P.reproj[0], pc, invZ, q, iz) && historyValid;
+    const bool confirmed = reproject(P.reproj[0], pc, invZ, q, iz) && historyValid && !gPoseUnexplained;
     shownFrom = q;
     shownBefore = confirmed && P.shownValid != 0;
     // The hold is for a picture that stood still: its margin shrinks with how far the picture moved at

@@ -136,6 +136,7 @@ TEST(Config, SteadyKeys) {
           "steady_clip_quant_srgb = off\nsteady_noise_estimate = on\nsteady_noise_residual_over_time = off\n"
           "steady_noise_change_test = off\nsteady_gain_compensation = off\n"
           "steady_gain_relights_admitted = off\n"
+          "steady_unexplained_frame_resets = off\n"
           "stereo_inverse_variance = off\n"
           "stereo_tap_curvature = off\nstereo_clip_gamma_after_steady = 1.5\n",
           &messages),
@@ -161,9 +162,10 @@ TEST(Config, SteadyKeys) {
   EXPECT_FALSE(c.params.steadyClipQuantSrgb);             // on by default: off here shows the key is read
   EXPECT_TRUE(c.params.steadyNoiseEstimate);              // off by default: on here shows the key is read
   EXPECT_FALSE(c.params.steadyNoiseResidualOverTime);
-  EXPECT_FALSE(c.params.steadyNoiseChangeTest);       // on by default: off here shows the key is read
-  EXPECT_FALSE(c.params.steadyGainCompensation);      // on by default: off here shows the key is read
-  EXPECT_FALSE(c.params.steadyGainRelightsAdmitted);  // on by default: off here shows the key is read
+  EXPECT_FALSE(c.params.steadyNoiseChangeTest);         // on by default: off here shows the key is read
+  EXPECT_FALSE(c.params.steadyGainCompensation);        // on by default: off here shows the key is read
+  EXPECT_FALSE(c.params.steadyGainRelightsAdmitted);    // on by default: off here shows the key is read
+  EXPECT_FALSE(c.params.steadyUnexplainedFrameResets);  // on by default: off here shows the key is read
   EXPECT_FALSE(c.params.stereoInverseVariance);
   EXPECT_FALSE(c.params.stereoTapCurvature);
   EXPECT_FLOAT_EQ(c.params.stereoClipGammaAfterSteady, 1.5f);

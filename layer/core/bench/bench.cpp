@@ -85,7 +85,8 @@ void usage() {
          "@hold=0: the 8-bit output rounded, not held (steadyOutputHold; held since round 20).\n"
          "@noisetold: the render's noise told (0.02^2 a channel), not estimated: the passes act\n"
          "on it in every pixel; @blurnoise, @blurnoise=0: round 26's blur\n"
-         "guard traded against that noise, or not (steadyBlurNoiseTrade).\n"
+         "guard traded against that noise, or not (steadyBlurNoiseTrade); @cut=0: no fresh start\n"
+         "where the pose does not explain a frame (steadyUnexplainedFrameResets; on since round 31).\n"
          "--input: the eye images, a zone plate rendered for each frame's pose (the default since\n"
          "round 28: detail, aliasing and chroma, as an app's frames) or one flat colour (before).\n"
          "--pipelines: after each method, the pipelines it used as PASS:STORAGE:SPECIALISATION,\n"
@@ -302,6 +303,8 @@ std::optional<Params> methodParams(const std::string& spec) {
       params->steadyBlurNoiseTrade = true;
     else if (suffix == "blurnoise=0")
       params->steadyBlurNoiseTrade = false;
+    else if (suffix == "cut=0")  // round 31: no fresh start where the pose does not explain a frame
+      params->steadyUnexplainedFrameResets = false;
     else
       return std::nullopt;
   }

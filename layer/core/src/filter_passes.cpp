@@ -277,7 +277,9 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
                 // Round 20: the 8-bit output held (storeHeldOutput), where the pass binds the codes.
                 (d.io.shownOut != VK_NULL_HANDLE ? 512 : 0) |
                 // Round 26: the blur guard traded against the render's noise (per axis, with bit 8).
-                (params.steadyBlurNoiseTrade && params.steadyHistoryBlurPerAxis ? 1024 : 0)
+                (params.steadyBlurNoiseTrade && params.steadyHistoryBlurPerAxis ? 1024 : 0) |
+                // Round 31: a frame the pose does not explain starts afresh (the probe's blocks, the pass).
+                (params.steadyGainCompensation && params.steadyUnexplainedFrameResets ? 2048 : 0)
           : 0};
 }
 

@@ -261,8 +261,13 @@ void Filter::Impl::readGainProbe(const Slot& s) {
   const uint32_t samples = record[3];
   if (samples == 0 || (gainProbe && gainProbe->frameIndex > s.frameIndex)) return;  // keep the newest
   const double toMean = 1.0 / (detail::kLumaSumScale * samples);
-  gainProbe = GainProbeSums{samples, record[0] * toMean, record[1] * toMean,
-                            record[2] / (detail::kResidualSumScale * samples), s.frameIndex};
+  gainProbe = GainProbeSums{samples,
+                            record[0] * toMean,
+                            record[1] * toMean,
+                            record[2] / (detail::kResidualSumScale * samples),
+                            record[4] / (detail::kResidualSumScale * samples),
+                            record[5] / (detail::kResidualSumScale * samples),
+                            s.frameIndex};
 }
 
 const uint32_t* Filter::Impl::noiseBins(const Slot& s) {

@@ -126,6 +126,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_noise_change_test", &core::Params::steadyNoiseChangeTest},
     {"steady_gain_compensation", &core::Params::steadyGainCompensation},
     {"steady_gain_relights_admitted", &core::Params::steadyGainRelightsAdmitted},
+    {"steady_unexplained_frame_resets", &core::Params::steadyUnexplainedFrameResets},
     {"stereo_inverse_variance", &core::Params::stereoInverseVariance},
     {"stereo_tap_curvature", &core::Params::stereoTapCurvature},
 };

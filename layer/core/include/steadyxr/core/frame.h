@@ -88,13 +88,19 @@ struct PassTimings {
 
 // What steady's gain probe (Params::steadyGainCompensation) summed in a frame, both eyes together: its
 // samples, and their mean luma (R/4 + G/2 + B/4, each sample clamped to [0, 1]) in this frame and in the
-// history reprojected to it, and the mean magnitude of their difference (clamped to 0.5). The frame's
-// gain, and whether it explains the change (round 17), are decided from these on the GPU (temporal.comp).
+// history reprojected to it, and the mean magnitude of their difference (clamped to 0.5); round 31
+// (Params::steadyUnexplainedFrameResets): the same luma's mean over the 4x4-pixel block around each sample
+// (its centre the sample's lower right corner), the mean magnitude of its change since the history and of
+// its step to the blocks a block to the right and below (averaged; each clamped to 0.5; 0 when off).
+// The frame's gain, whether it explains the change (round 17) and whether the pose explains the frame
+// (round 31) are decided from these on the GPU (temporal.comp).
 struct GainProbeSums {
   uint32_t samples = 0;
   double currentMeanLuma = 0.0;
   double historyMeanLuma = 0.0;
   double meanChangeMagnitude = 0.0;
+  double meanBlockChange = 0.0;
+  double meanBlockStep = 0.0;
   uint64_t frameIndex = 0;  // which submitted frame these belong to
 };
 

@@ -196,6 +196,16 @@ struct Params {
   // moves every sample the same way (a fade: near 1); structure that moves (a video's zoom) and noise
   // move them both ways (near 0), so a video's drifting gain relights nothing. false: round 16's rule.
   bool steadyGainRelightsAdmitted = true;
+  // Round 31 (the default, item 13; with steadyGainCompensation, whose probe sums it): a frame the pose does
+  // not explain starts every pixel afresh, as a first frame. Over the probe's samples, the luma's mean over
+  // 4x4-pixel blocks: where the frame's blocks differ from the history's (reprojected through the pose) by
+  // more than they differ from their neighbours a block away (4 standard errors of the ratio above 1), the
+  // history is misplaced by about a block or more as a whole. An app that turns its rig by a snap submits
+  // the tracked head's pose, so the layer sees a still head under a picture that jumped; the box keeps what
+  // of the misplaced history falls inside it, which a repeating texture makes likely (a snap over brick at
+  // 90 Hz: frames up to 1.35x none's). Not where the gain explains the change (a fade) or the blocks' change
+  // is under the box's floor (rounding). false: round 30's default.
+  bool steadyUnexplainedFrameResets = true;
   // Round 20 (the default): the 8-bit output keeps the code it showed last frame (at the texel the
   // reprojection came from) while the filtered estimate lies within 1/2 + steadyOutputHold codes of it
   // and moved by less than half a code since last frame (round 21: in codes through the encoding's
