@@ -126,13 +126,16 @@ vec3 sanitize(vec3 c) {
 // centres (temporal.comp, its footprint); the other temporal methods un-jitter through a bilinear fetch.
 const bool kUnjitterBilinear = kJitter && kMode != 4;
 
+// Bilinear tap of src0 at q in its rect's pixel units (texel centres at +0.5), unclamped and unsanitised.
+vec4 tapSrc0(vec2 q) { return textureLod(uSrc0, (vec2(P.src0Offset) + q) * P.src0InvExtent, 0.0); }
+
 // The alpha comes along unsanitised (only alphaOf's use of it is exact: unjittered).
 vec4 fetchSrc0Rgba(ivec2 p) {
   p = clamp(p, ivec2(0), P.src0Size - 1);
   vec4 c;
   if (kUnjitterBilinear) {  // un-jitter: bilinear at our pixel centre on src0's grid, inside its rect
     vec2 q = clamp(vec2(p) + 0.5 - P.jitterPx, vec2(0.5), vec2(P.src0Size) - 0.5);
-    c = textureLod(uSrc0, (vec2(P.src0Offset) + q) * P.src0InvExtent, 0.0);
+    c = tapSrc0(q);
   } else {
     c = texelFetch(uSrc0, P.src0Offset + p, 0);
   }

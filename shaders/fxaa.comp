@@ -16,7 +16,7 @@ const float kStep[8] = float[8](1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0);
 
 vec3 sampleAt(vec2 q) {  // bilinear in src0's rect, q in pixel units (centres at +0.5)
   q = clamp(q, vec2(0.5), vec2(P.src0Size) - 0.5);
-  return sanitize(textureLod(uSrc0, (vec2(P.src0Offset) + q) * P.src0InvExtent, 0.0).rgb);
+  return sanitize(tapSrc0(q).rgb);
 }
 float luma(vec3 c) { return sqrt(max(dot(c, vec3(0.299, 0.587, 0.114)), 0.0)); }
 float lumaAt(vec2 q) { return luma(sampleAt(q)); }

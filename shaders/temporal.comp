@@ -247,8 +247,7 @@ const int kProbeSumsGain = 0, kProbeSumsResidual = 4, kProbeSumsBlocks = 6;
 // +- 0.5, +- 1.5), and the history's over the same area around q: four bilinear taps at texel corners, each
 // the mean of a 2x2 quad (a quad's corner kept a texel inside the image: its texels are the eye's own).
 float frameQuadLuma(vec2 corner) {
-  const vec2 q = clamp(corner, vec2(1.0), vec2(P.src0Size) - 1.0);
-  const vec3 c = textureLod(uSrc0, (vec2(P.src0Offset) + q) * P.src0InvExtent, 0.0).rgb;
+  const vec3 c = tapSrc0(clamp(corner, vec2(1.0), vec2(P.src0Size) - 1.0)).rgb;
   return toYCoCg((kCleanSrc & 1) != 0 ? c : sanitize(c)).x;
 }
 float frameBlockLuma(ivec2 corner) {
