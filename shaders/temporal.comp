@@ -147,13 +147,22 @@ vec3 footprintEstimate(vec3 centre, vec3 edges, vec3 sum3x3, vec3 sqrtEdges, vec
       (1.0 - 2.0 * k) * (1.0 - 2.0 * k) * sqrt(centre) + k * (1.0 - 2.0 * k) * sqrtEdges + k * k * sqrtCorners;
   return encoded ? g * g : linear;
 }
+// The probe's 5x5 of src0 around p, row by row (clamped into the image by fetchSrc0): its footprint
+// estimate reads the 3x3 inside it and the residual's detail all of it, each texel fetched once (the
+// residual's rows fetched 45 before round 32, and the 3x3 nine more).
+const int kProbeWindowSide = 5;
+vec3 probeWindowAt(const vec3 window[25], int x, int y) { return window[(y + 2) * kProbeWindowSide + x + 2]; }
+void loadProbeWindow(ivec2 p, out vec3 window[25]) {
+  [[unroll]] for (int y = -2; y <= 2; ++y)
+    [[unroll]] for (int x = -2; x <= 2; ++x) window[(y + 2) * kProbeWindowSide + x + 2] = fetchSrc0(p + ivec2(x, y));
+}
 // The probe's 3x3 of src0 around p (inside the image): steady's footprint estimate of the pixel, its
 // centre texel, and round 13's detail, the luma's x^2 y^2 contrast (weights (1, -2, 1) x (1, -2, 1),
 // norm 6) scaled to the noise's standard deviation. Sums in the pass's order (windowSums: by columns).
-vec3 probeFootprint(ivec2 p, out vec3 centre, out float detail) {
+vec3 probeFootprint(const vec3 window[25], out vec3 centre, out float detail) {
   vec3 c[9];
   [[unroll]] for (int y = -1; y <= 1; ++y)
-    [[unroll]] for (int x = -1; x <= 1; ++x) c[(y + 1) * 3 + x + 1] = fetchSrc0(p + ivec2(x, y));
+    [[unroll]] for (int x = -1; x <= 1; ++x) c[(y + 1) * 3 + x + 1] = probeWindowAt(window, x, y);
   const vec3 corners = c[0] + c[2] + c[6] + c[8];
   detail = abs(toYCoCg(corners - 2.0 * (c[1] + c[3] + c[5] + c[7]) + 4.0 * c[4]).x) * (1.0 / 6.0);
   const vec3 edges = c[3] + c[5] + c[1] + c[7];  // (-1, 0), (1, 0), (0, -1), (0, 1)
@@ -169,18 +178,17 @@ vec3 probeFootprint(ivec2 p, out vec3 centre, out float detail) {
 // last frame at the finest scale (noise, every frame) and not the picture's own fine detail (aliasing
 // under a still head, which the history holds too). Its own histogram; the host takes the smaller of
 // the two estimates (noise_estimate.h).
-float residualDetail(ivec2 p, vec2 q) {
+float residualDetail(const vec3 window[25], vec2 q) {
   const float k = P.steadyFootprint;
   const bool encoded = P.steadyFootprintEncoded > 0.5;
   const vec3 w = vec3(k, 1.0 - 2.0 * k, k);
+  vec3 texelsEncoded[25];
+  [[unroll]] for (int i = 0; i < 25; ++i) texelsEncoded[i] = encoded ? sqrt(window[i]) : window[i];
   vec3 rows[15];  // the 5x5 filtered along x: rows y = -2..2, columns x = -1..1
   [[unroll]] for (int y = -2; y <= 2; ++y)
     [[unroll]] for (int x = -1; x <= 1; ++x) {
       vec3 s = vec3(0.0);
-      [[unroll]] for (int i = -1; i <= 1; ++i) {
-        const vec3 c = fetchSrc0(p + ivec2(x + i, y));  // clamped into the image inside
-        s += w[i + 1] * (encoded ? sqrt(c) : c);
-      }
+      [[unroll]] for (int i = -1; i <= 1; ++i) s += w[i + 1] * probeWindowAt(texelsEncoded, x + i, y);
       rows[(y + 2) * 3 + x + 1] = s;
     }
   const vec2 pos = q - 0.5;  // texel centres at integers
@@ -240,12 +248,14 @@ void addNoiseSample(float absDetail, int histogram) {
 // sums: the same in any order; few adds to the same words, which a GPU's atomics serialise).
 // - Round 31 (bit 11): at the same samples, the luma's mean over a block of 4x4 pixels in this frame and in
 //   the history reprojected to it: the magnitude of their difference, and of the difference between the
-//   frame's block and its neighbours a block to the right and below (averaged). Words 4 and 5 of the record.
+//   frame's block and its neighbour a block to the right (samples whose i + j is even) or below (odd; round
+//   32: one neighbour a sample, where round 31 averaged both). Words 4 and 5 of the record.
 shared uint sProbeSums[8];  // the gain's four sums, the residual's two, the blocks' two (round 31)
 const int kProbeSumsGain = 0, kProbeSumsResidual = 4, kProbeSumsBlocks = 6;
 // Round 31: the luma's mean over the 4x4 texels of src0 around the texel corner `corner` (centres corner
 // +- 0.5, +- 1.5), and the history's over the same area around q: four bilinear taps at texel corners, each
 // the mean of a 2x2 quad (a quad's corner kept a texel inside the image: its texels are the eye's own).
+// The sample's own block is in its 5x5 window (round 32: summed from the texels fetched there).
 float frameQuadLuma(vec2 corner) {
   const vec3 c = tapSrc0(clamp(corner, vec2(1.0), vec2(P.src0Size) - 1.0)).rgb;
   return toYCoCg((kCleanSrc & 1) != 0 ? c : sanitize(c)).x;
@@ -255,11 +265,18 @@ float frameBlockLuma(ivec2 corner) {
   return 0.25 * (frameQuadLuma(c + vec2(-1.0, -1.0)) + frameQuadLuma(c + vec2(1.0, -1.0)) +
                  frameQuadLuma(c + vec2(-1.0, 1.0)) + frameQuadLuma(c + vec2(1.0, 1.0)));
 }
+float windowBlockLuma(const vec3 window[25]) {  // texels -1 .. 2 of the window, edge texels repeated
+  float sum = 0.0;
+  [[unroll]] for (int y = -1; y <= 2; ++y)
+    [[unroll]] for (int x = -1; x <= 2; ++x) sum += toYCoCg(probeWindowAt(window, x, y)).x;
+  return sum * (1.0 / 16.0);
+}
 float historyBlockLuma(vec2 q) {
   return 0.25 * (toYCoCg(sampleHistory(q + vec2(-1.0, -1.0))).x + toYCoCg(sampleHistory(q + vec2(1.0, -1.0))).x +
                  toYCoCg(sampleHistory(q + vec2(-1.0, 1.0))).x + toYCoCg(sampleHistory(q + vec2(1.0, 1.0))).x);
 }
-void probeFrame(ivec2 p) {
+void probeFrame(ivec2 sampleIndex) {
+  const ivec2 p = sampleIndex * P.probeBlockPx + P.probeBlockPx / 2;
   // The switches spelled out (bits 4, 5, 6, 11), as in main: glslang defines a spec constant's expression with
   // && where it is first used, and a later use in a block that does not follow it is invalid SPIR-V.
   const bool noiseSampled = (kSteadyBoxSwitches & 16) != 0, residualSampled = (kSteadyBoxSwitches & 32) != 0;
@@ -272,7 +289,9 @@ void probeFrame(ivec2 p) {
   if (all(lessThan(p, P.src0Size))) {
     vec3 centre;
     float frameDetail;
-    const vec3 estimate = probeFootprint(p, centre, frameDetail);
+    vec3 window[25];
+    loadProbeWindow(p, window);
+    const vec3 estimate = probeFootprint(window, centre, frameDetail);
     if (noiseSampled && all(lessThan(p + 1, P.src0Size))) addNoiseSample(frameDetail, 0);
     float invZ = P.fallbackInvZ;
     if ((kDepthBits & 1) != 0) invZ = invZFromDepth(texelFetch(uDepth0, P.depth0Offset + p, 0).r, P.depth0);
@@ -281,7 +300,7 @@ void probeFrame(ivec2 p) {
     if (P.historyValid != 0 && reproject(P.reproj[0], vec2(p) + 0.5, invZ, q, iz)) {
       const vec3 reprojected = sampleHistory(q);
       if (residualSampled && !jittered && all(lessThan(p + 2, P.src0Size))) {
-        addNoiseSample(residualDetail(p, q), 1);
+        addNoiseSample(residualDetail(window, q), 1);
         const int units = residualSumUnits(toYCoCg(estimate - reprojected).x);
         atomicAdd(sProbeSums[kProbeSumsResidual], uint(units));  // two's complement: a signed sum
         atomicAdd(sProbeSums[kProbeSumsResidual + 1], uint(abs(units)));
@@ -295,9 +314,9 @@ void probeFrame(ivec2 p) {
                   uint(round(min(abs(currentLuma - historyLuma), 0.5) * kResidualSumScale)));
         atomicAdd(sProbeSums[kProbeSumsGain + 3], 1u);
         if (blocksProbed) {  // p + 1: the block's centre is the pixel's lower right corner, q + 0.5 in the history
-          const float block = frameBlockLuma(p + 1), blockBefore = historyBlockLuma(q + 0.5);
-          const float blockStep =
-              0.5 * (abs(frameBlockLuma(p + ivec2(5, 1)) - block) + abs(frameBlockLuma(p + ivec2(1, 5)) - block));
+          const float block = windowBlockLuma(window), blockBefore = historyBlockLuma(q + 0.5);
+          const bool stepAcross = ((sampleIndex.x + sampleIndex.y) & 1) == 0;  // half the taps; the same mean
+          const float blockStep = abs(frameBlockLuma(p + (stepAcross ? ivec2(5, 1) : ivec2(1, 5))) - block);
           const float blockChange = isnan(blockBefore) ? 0.0 : abs(block - blockBefore);
           atomicAdd(sProbeSums[kProbeSumsBlocks], uint(round(min(blockChange, 0.5) * kResidualSumScale)));
           atomicAdd(sProbeSums[kProbeSumsBlocks + 1], uint(round(min(blockStep, 0.5) * kResidualSumScale)));
@@ -618,7 +637,7 @@ void main() {
   ivec2 base = ivec2(gl_GlobalInvocationID.xy) * ivec2(kBlockW, kBlockH);
   // The switches spelled out: glslang leaves a spec constant's expression undefined when main is its first use.
   if (kMode == 4 && (kSteadyBoxSwitches & 128) != 0) {  // the probe: by regions of 4x4 blocks on every device
-    probeFrame(ivec2(gl_GlobalInvocationID.xy) * P.probeBlockPx + P.probeBlockPx / 2);
+    probeFrame(ivec2(gl_GlobalInvocationID.xy));
     return;
   }
   if (kMode == 4 && (kSteadyBoxSwitches & 64) != 0) gFrameGain = frameGain();

@@ -63,11 +63,11 @@ std::optional<HostImage> firstFrame(const HostImage& picture) {
 }
 
 // The blocks' sums by their definition: at the probe's samples (the centres (2 + 4i, 2 + 4j) of 4 px
-// blocks here), the luma (R + 2G + B) / 4 averaged over the 4x4 pixels x - 1 .. x + 2, y - 1 .. y + 2, as
-// four 2x2 quads (in this frame a quad is kept inside the image: its corner at most a pixel from the edge;
-// the history's are read with the edge pixel repeated): its |change| from the same block of `before` (a
-// still pose: the history is the last output), and its |step| to the blocks 4 px to the right and 4 px
-// below, averaged.
+// blocks here, sample (i, j)), the luma (R + 2G + B) / 4 averaged over the 4x4 pixels x - 1 .. x + 2,
+// y - 1 .. y + 2 (the edge pixel repeated): its |change| from the same block of `before` (a still pose:
+// the history is the last output), and its |step| to the block 4 px to the right where i + j is even, 4 px
+// below where it is odd. A neighbour is read as four 2x2 quads kept inside the image (a quad's corner at
+// most a pixel from the edge).
 struct BlockSums {
   double meanChange = 0.0, meanStep = 0.0;
 };
@@ -92,13 +92,13 @@ BlockSums blockSumsByDefinition(const HostImage& now, const HostImage& before) {
   };
   BlockSums sums;
   int samples = 0;
-  for (int y = 2; y < int(now.height); y += 4)
-    for (int x = 2; x < int(now.width); x += 4) {
-      const double block = blockLuma(now, x, y, true);
+  for (int j = 0, y = 2; y < int(now.height); ++j, y += 4)
+    for (int i = 0, x = 2; x < int(now.width); ++i, x += 4) {
+      const double block = blockLuma(now, x, y, false);
+      const bool across = (i + j) % 2 == 0;
       sums.meanChange += std::min(std::abs(block - blockLuma(before, x, y, false)), 0.5);
-      sums.meanStep += std::min(0.5 * (std::abs(blockLuma(now, x + 4, y, true) - block) +
-                                       std::abs(blockLuma(now, x, y + 4, true) - block)),
-                                0.5);
+      sums.meanStep +=
+          std::min(std::abs(blockLuma(now, across ? x + 4 : x, across ? y : y + 4, true) - block), 0.5);
       ++samples;
     }
   sums.meanChange /= samples;

@@ -91,7 +91,8 @@ struct PassTimings {
 // history reprojected to it, and the mean magnitude of their difference (clamped to 0.5); round 31
 // (Params::steadyUnexplainedFrameResets): the same luma's mean over the 4x4-pixel block around each sample
 // (its centre the sample's lower right corner), the mean magnitude of its change since the history and of
-// its step to the blocks a block to the right and below (averaged; each clamped to 0.5; 0 when off).
+// its step to the block a block to the right (samples i + j even) or below (odd; round 32: one neighbour a
+// sample, half the taps, the same mean; each clamped to 0.5; 0 when off).
 // The frame's gain, whether it explains the change (round 17) and whether the pose explains the frame
 // (round 31) are decided from these on the GPU (temporal.comp).
 struct GainProbeSums {
