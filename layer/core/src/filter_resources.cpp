@@ -267,6 +267,8 @@ void Filter::Impl::readGainProbe(const Slot& s) {
                             record[2] / (detail::kResidualSumScale * samples),
                             record[4] / (detail::kResidualSumScale * samples),
                             record[5] / (detail::kResidualSumScale * samples),
+                            record[6] / (detail::kResidualSumScale * samples),
+                            record[7] / (detail::kResidualSumScale * samples),
                             s.frameIndex};
 }
 

@@ -47,8 +47,9 @@ constexpr uint32_t kNoiseBufferBytes = kNoiseCopies * kNoiseCopyStrideWords * si
 // samples before), so its adds seldom meet (round 16 kept kNoiseCopies copies, read by every invocation
 // of the temporal passes).
 // Round 31 (Params::steadyUnexplainedFrameResets): two more words, the magnitudes of the 4x4 blocks' luma
-// change since the history and of their step to the next block, summed (1/kResidualSumScale).
-constexpr uint32_t kGainRecordWords = 6;
+// change since the history and of their step to the next block, summed (1/kResidualSumScale). Round 33: two
+// more, the structure of the frame's block and of the history's (the halves' differences, temporal.comp).
+constexpr uint32_t kGainRecordWords = 8;
 constexpr uint32_t kGainCopyStrideWords = 16;  // one 64-byte line
 constexpr float kLumaSumScale = 1024.0f;
 constexpr uint32_t kGainBufferBytes = kGainCopyStrideWords * sizeof(uint32_t);

@@ -92,7 +92,9 @@ struct PassTimings {
 // (Params::steadyUnexplainedFrameResets): the same luma's mean over the 4x4-pixel block around each sample
 // (its centre the sample's lower right corner), the mean magnitude of its change since the history and of
 // its step to the block a block to the right (samples i + j even) or below (odd; round 32: one neighbour a
-// sample, half the taps, the same mean; each clamped to 0.5; 0 when off).
+// sample, half the taps, the same mean; each clamped to 0.5; 0 when off); round 33: each block's structure
+// (the mean magnitude of the differences between its left and right halves and its top and bottom halves,
+// from its four 2x2 quads) in this frame and in the history, where the history has one.
 // The frame's gain, whether it explains the change (round 17) and whether the pose explains the frame
 // (round 31) are decided from these on the GPU (temporal.comp).
 struct GainProbeSums {
@@ -102,7 +104,9 @@ struct GainProbeSums {
   double meanChangeMagnitude = 0.0;
   double meanBlockChange = 0.0;
   double meanBlockStep = 0.0;
-  uint64_t frameIndex = 0;  // which submitted frame these belong to
+  double meanFrameStructure = 0.0;    // round 33: the block's halves' differences in this frame
+  double meanHistoryStructure = 0.0;  // and in the history's block (not relit)
+  uint64_t frameIndex = 0;            // which submitted frame these belong to
 };
 
 }  // namespace steadyxr::core
