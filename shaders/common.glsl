@@ -126,6 +126,10 @@ vec3 sanitize(vec3 c) {
 // centres (temporal.comp, its footprint); the other temporal methods un-jitter through a bilinear fetch.
 const bool kUnjitterBilinear = kJitter && kMode != 4;
 
+// A jitter of exactly 0 is an unjittered frame: the layer's Halton offsets are never both 0, and it passes 0
+// for a view whose fov the app did not echo.
+bool frameIsJittered() { return kJitter && any(notEqual(P.jitterPx, vec2(0.0))); }
+
 // Bilinear tap of src0 at q in its rect's pixel units (texel centres at +0.5), unclamped and unsanitised.
 vec4 tapSrc0(vec2 q) { return textureLod(uSrc0, (vec2(P.src0Offset) + q) * P.src0InvExtent, 0.0); }
 

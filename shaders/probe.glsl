@@ -144,7 +144,7 @@ void probeFrame(ivec2 sampleIndex) {
   // && where it is first used, and a later use in a block that does not follow it is invalid SPIR-V.
   const bool noiseSampled = (kSteadyBoxSwitches & 16) != 0, residualSampled = (kSteadyBoxSwitches & 32) != 0;
   const bool probesGain = (kSteadyBoxSwitches & 64) != 0, blocksProbed = (kSteadyBoxSwitches & 2048) != 0;
-  const bool jittered = kJitter && any(notEqual(P.jitterPx, vec2(0.0)));
+  const bool jittered = frameIsJittered();
   const bool leader = gl_LocalInvocationIndex == 0u;
   if (leader)
     for (int i = 0; i < 10; ++i) sProbeSums[i] = 0u;

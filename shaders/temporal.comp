@@ -208,9 +208,9 @@ float frameGain() {
                                (kResidualSumScale * n);
   const bool structureLost = relitStructure * relitStructure >= kQuantVar * floorSlope2(historyMean) &&
                              relitStructure >= frameStructure * (1.0 + 4.0 * ratioStandardError);
-  // Not on jittered input, whose point samples at an offset lose a sub-pixel wire's structure in some frames.
   const bool fadeLike = abs(meanDifference) >= 0.5 * meanMagnitude;
-  const bool jittered = kJitter && any(notEqual(P.jitterPx, vec2(0.0)));
+  // Not on jittered input, whose point samples at an offset lose a sub-pixel wire's structure in some frames.
+  const bool jittered = frameIsJittered();
   gPoseUnexplained = resets && changeAboveFloor && meanChange >= meanStep * (1.0 + 4.0 * ratioStandardError) &&
                      (!fadeLike || (structureLost && !jittered));
   return significant ? float(current) / float(history) : 1.0;
@@ -263,9 +263,7 @@ void processPixel(ivec2 p, ivec2 o) {
       fc = footprintEstimate(cur, edges, s1, sqrtEdges, sqrtCorners, k,
                              mode == kSteady && P.steadyFootprintEncoded > 0.5);
       if (mode == kSteady) {
-        // A jitter of exactly 0 is an unjittered frame (the layer's Halton offsets are never both
-        // 0; it passes 0 for a view whose fov the app did not echo): the footprint above.
-        if (kJitter && any(notEqual(P.jitterPx, vec2(0.0)))) {
+        if (frameIsJittered()) {  // else the footprint above
           fc = jitteredFootprint(o, k);
           recentredClipMoments(o, ymn, yvar);
         }
