@@ -16,9 +16,10 @@ const float kQuantVar = (0.5 / 255.0) * (0.5 / 255.0);
 const float kIecSlopeScale2 = (2.4 / 1.055) * (2.4 / 1.055);  // the sRGB curve's 2.4 / 1.055, squared
 // Round 13 (Params::steadyNoiseEstimate): the clip box widened by the render's noise (kSteadyBoxSwitches
 // bit 3) and the histogram that estimates it (bit 4, round 14's residual bit 5;
-// layer/core/src/noise_estimate.h, the same constants). Since round 22 the probe (bit 7) takes the samples, not the pass: the residual's 5x5
-// and 16 history texels, in the pass, tripled its registers for every pixel (RADV's compiler: 60 -> 137
-// VGPRs, a quarter of the waves per SIMD), for the one pixel in 16 that samples.
+// layer/core/src/noise_estimate.h, the same constants). Since round 22 the probe (bit 7) takes the
+// samples, not the pass: the residual's 5x5 and 16 history texels, in the pass, tripled its registers
+// for every pixel (RADV's compiler: 60 -> 137 VGPRs, a quarter of the waves per SIMD), for the one
+// pixel in 16 that samples.
 const bool kNoiseAware = kMode == 4 && (kSteadyBoxSwitches & 8) != 0;
 const bool kBlurNoiseTrade = kNoiseAware && (kSteadyBoxSwitches & 1024) != 0;  // round 26: bit 10
 const int kNoiseBins = 64;
@@ -459,7 +460,8 @@ void processPixel(ivec2 p, ivec2 o) {
     // Round 20 (Params::steadyOutputHold): the 8-bit output keeps last frame's code (storeHeldOutput).
     bool outputHeld = kMode == 4 && (kSteadyBoxSwitches & 512) != 0;  // not const: see main
     const float outAlpha = kWriteOut ? (neighbourhood ? blockAlphaOf(p, o) : alphaOf(p)) : 1.0;
-    if (kWriteOut && outputHeld) storeHeldOutput(p, result, outAlpha, shownBefore, shownFrom, estimateBefore, shownHold);
+    if (kWriteOut && outputHeld)
+      storeHeldOutput(p, result, outAlpha, shownBefore, shownFrom, estimateBefore, shownHold);
     if (kWriteOut && !outputHeld) storeOutput(p, vec4(result, outAlpha));
   }
 }
