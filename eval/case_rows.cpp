@@ -13,35 +13,37 @@
 namespace steadyxr::eval {
 
 std::vector<int> motionChangeFrames(const Scenario& sc, const imu::MotionStream& stream,
-                                    const std::vector<double>& headSpeeds, double firstFrameSec, double dt,
-                                    int frames) {
+                                    const std::vector<double>& headSpeeds, const FrameClock& clock) {
   std::vector<int> changes;
   if (sc.trace) {
     changes = detectMotionChanges(headSpeeds, kMotionChangeDegPerSec);
   } else {
     for (double tc : stream.motionChangeTimes()) {
-      const int k = int(std::ceil((tc - firstFrameSec) / dt - 1e-9));
-      if (k >= 0 && k < frames && (changes.empty() || changes.back() != k)) changes.push_back(k);
+      const int k = clock.firstFrameAtOrAfter(tc);
+      if (k >= 0 && (changes.empty() || changes.back() != k)) changes.push_back(k);
     }
   }
   return changes;
 }
 
-void addChangeFrames(const std::vector<double>& times, double firstFrameSec, double dt, int frames,
+void addChangeFrames(const std::vector<double>& runTimes, const FrameClock& clock,
                      std::vector<int>* changes) {
-  for (double tc : times) {
-    const int k = int(std::ceil((tc - firstFrameSec) / dt - 1e-9));
-    if (k >= 0 && k < frames) changes->push_back(k);
+  for (double tc : runTimes) {
+    const int k = clock.firstFrameAtOrAfterRunTime(tc);
+    if (k >= 0) changes->push_back(k);
   }
   std::sort(changes->begin(), changes->end());
   changes->erase(std::unique(changes->begin(), changes->end()), changes->end());
 }
 
-void addContentChangeFrames(const Scene& scene, double firstFrameSec, double dt, int frames,
-                            std::vector<int>* changes) {
+void addContentChangeFrames(const Scene& scene, const FrameClock& clock, std::vector<int>* changes) {
   if (!scene.contentChanges) return;
-  const double lastSec = firstFrameSec + (frames - 1) * dt;
-  addChangeFrames(scene.contentChanges(firstFrameSec, lastSec), firstFrameSec, dt, frames, changes);
+  for (double tc : scene.contentChanges(clock.firstSec(), clock.lastSec())) {
+    const int k = clock.firstFrameAtOrAfter(tc);
+    if (k >= 0) changes->push_back(k);
+  }
+  std::sort(changes->begin(), changes->end());
+  changes->erase(std::unique(changes->begin(), changes->end()), changes->end());
 }
 
 ResultRow resultRow(const Scenario& sc, const Variant& v, const Accum& a, const Accum* none,

@@ -2,6 +2,7 @@
 // case they share (motion changes, head speed, the ground truth's own stereo difference).
 #pragma once
 
+#include "frame_clock.h"
 #include "frame_score.h"
 #include "results.h"
 #include "scenario.h"
@@ -28,18 +29,15 @@ struct CaseFacts {
 // The frames of a case at which its head motion changes: a preset's own change times (the first
 // frame at or after each), else, for a trace, detected from the head speed.
 std::vector<int> motionChangeFrames(const Scenario& sc, const imu::MotionStream& stream,
-                                    const std::vector<double>& headSpeeds, double firstFrameSec, double dt,
-                                    int frames);
+                                    const std::vector<double>& headSpeeds, const FrameClock& clock);
 
-// Adds to `changes` (kept sorted, no repeats) the frame at or after each of `times` (seconds, on the
-// clock whose first frame is at firstFrameSec).
-void addChangeFrames(const std::vector<double>& times, double firstFrameSec, double dt, int frames,
-                     std::vector<int>* changes);
+// Adds to `changes` (kept sorted, no repeats) the frame at or after each of `runTimes` (seconds since
+// the clock's first frame).
+void addChangeFrames(const std::vector<double>& runTimes, const FrameClock& clock, std::vector<int>* changes);
 // Adds to `changes` (kept sorted, no repeats) the frames at or after each in-place content change of
 // the scene (Scene::contentChanges: a cut, a fade's ends, a light switching): recovery counts from
 // those too.
-void addContentChangeFrames(const Scene& scene, double firstFrameSec, double dt, int frames,
-                            std::vector<int>* changes);
+void addContentChangeFrames(const Scene& scene, const FrameClock& clock, std::vector<int>* changes);
 
 // The row of method `v` in case `sc`; `none` is the unfiltered method's sums (ghosting is measured
 // against it), nullptr when the run has no "none".

@@ -1,6 +1,7 @@
 #include "corpus.h"
 
 #include "eye_rig.h"
+#include "frame_clock.h"
 #include "pictures.h"
 #include "scene.h"
 #include "suite.h"
@@ -106,12 +107,12 @@ std::string motionClassOf(const std::string& preset) {
   return preset;
 }
 
-double corpusStartSec(const std::string& preset, uint64_t seed, int frames, double appHz) {
+double corpusStartSec(const std::string& preset, uint64_t seed, double windowSec) {
   std::string error;
   const auto stream = imu::makePreset(preset, seed, &error);
   if (!stream) return 0.0;
   const std::vector<double> changes = stream->motionChangeTimes();
-  const double window = (frames - 1) / appHz;
+  const double window = windowSec;
   auto inWindow = [&](double s) {
     return std::count_if(changes.begin(), changes.end(), [&](double t) { return t >= s && t <= s + window; });
   };
@@ -143,13 +144,14 @@ std::vector<Scenario> corpusScenarios(const Options& o) {
   const bool fromCommandLine = !o.motions.empty();
   const std::vector<std::string> pictures = o.images.empty() ? corpusPictures() : o.images;
   const std::vector<std::string> motions = o.motions.empty() ? corpusMotions() : o.motions;
+  const double windowSec = double(spanInPeriods(o.frames, o.dropFrames, o.seed)) / o.appHz;
   auto sceneWanted = [&](const std::string& scene) {  // --scenes narrows the corpus too
     return o.scenes.empty() || std::find(o.scenes.begin(), o.scenes.end(), scene) != o.scenes.end();
   };
   for (const std::string& motion : motions) {
     const bool translates = presetTranslates(motion, o.seed);
     const double start =
-        fromCommandLine && o.startSec > 0 ? o.startSec : corpusStartSec(motion, o.seed, o.frames, o.appHz);
+        fromCommandLine && o.startSec > 0 ? o.startSec : corpusStartSec(motion, o.seed, windowSec);
     auto add = [&](const std::string& scene, const std::string& picture, const std::string& pictureCls) {
       // Without depth too where the head translates (the first picture, the zone plate and the
       // scenes, to keep the corpus within its time), and always for the disocclusion scene.

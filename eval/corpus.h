@@ -24,9 +24,9 @@ std::string motionClassOf(const std::string& preset);
 // the app's depth given to the filter and without; most apps submit none).
 bool presetTranslates(const std::string& preset, uint64_t seed);
 
-// Where a preset's run starts: the window of `frames` app frames that holds the most of its motion
-// changes, each with 0.5 s of history before it (0 for presets without changes).
-double corpusStartSec(const std::string& preset, uint64_t seed, int frames, double appHz);
+// Where a preset's run starts: the window of windowSec (the run's frames' span) that holds the most
+// of its motion changes, each with 0.5 s of history before it (0 for presets without changes).
+double corpusStartSec(const std::string& preset, uint64_t seed, double windowSec);
 std::vector<Scenario> corpusScenarios(const Options& o);
 // Per (motion class, picture class): mean RMSE relative to none's per method, and the default's
 // temporal error, worst frame and recovery. Also written to corpus.csv.

@@ -101,6 +101,12 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        (a snap turn at a third of the run and back at two thirds); such cases are
                        never low-speed ones; the display stage's extra frames (display rate above
                        the app's) warp with the rigged poses, as a runtime that knew the rig
+  --drop-frames P       the app misses each app period after a frame with probability P (0-0.5;
+                       at most 3 in a row, drawn from --seed, the same for every case): its next
+                       frame is for the period after, so the layer sees a pose step of two
+                       periods or more, and video and moving objects step as far; truth and
+                       inputs follow (eval/frame_clock.h); the display stage still shows each
+                       frame for the display frames of one app period
   --no-sweeps          skip the parameter sweeps
   --quick              small run: 1 picture, no sweeps, 16 frames, 96x96 (unless given)
   --validation         enable the Vulkan validation layer
@@ -185,6 +191,12 @@ int main(int argc, char** argv) {
         std::string error;
         if (!steadyxr::eval::parseLocomotion(next(), &o.locomotion, &error)) {
           std::cerr << "steadyxr-eval: " << error << "\n";
+          return 2;
+        }
+      } else if (a == "--drop-frames") {
+        o.dropFrames = std::stod(next());
+        if (!(o.dropFrames >= 0.0 && o.dropFrames <= 0.5)) {
+          std::cerr << "steadyxr-eval: --drop-frames takes the share of app frames missed, from 0 to 0.5\n";
           return 2;
         }
       } else if (a == "--no-sweeps") {

@@ -1,5 +1,6 @@
 #include "results.h"
 
+#include "frame_clock.h"
 #include "suite.h"
 
 #include "steadyxr/core/params.h"
@@ -78,6 +79,8 @@ void writeResultsJson(const std::string& path, const Options& o, const std::vect
     << ", \"error_threshold\": " << o.errorThreshold << ", \"srgb\": " << boolStr(!o.unorm)
     << ", \"mipmaps\": " << boolStr(o.mipmaps) << ", \"corpus\": " << boolStr(o.corpus)
     << ", \"ppd\": " << o.ppd << ", \"locomotion\": " << jsonStr(toString(o.locomotion))
+    << ", \"drop_frames\": " << o.dropFrames
+    << ", \"missed_periods\": " << FrameClock(o.frames, 0.0, 1.0, o.dropFrames, o.seed).missedPeriods()
     << ", \"device\": " << jsonStr(device)
     << ", \"color_space\": \"display-encoded (sRGB) 8-bit values scaled to [0,1]; MTCD, temporal and stereo "
        "error in 8-bit code values\""

@@ -8,6 +8,7 @@
 #include "cost_timing.h"
 #include "crops.h"
 #include "eye_rig.h"
+#include "frame_clock.h"
 #include "frame_score.h"
 #include "image.h"
 #include "locomotion.h"
@@ -203,6 +204,7 @@ int runSuite(const Options& o) {
     }
     const double start = sc.startSec >= 0.0 ? sc.startSec : o.startSec;
     const double firstFrameSec = start - sc.leadSec;  // on the motion stream's clock
+    const FrameClock clock(o.frames, firstFrameSec, dt, o.dropFrames, o.seed);
     Scene scene;
     // --ppd stretches a scene in metres about the first frame's head (scene.h, makeScene).
     // (Asked only under --ppd: without it the stream sees the calls it always saw.)
@@ -216,7 +218,7 @@ int runSuite(const Options& o) {
       std::cerr << "steadyxr-eval: " << error << "\n";
       return 2;
     }
-    const double lastSec = firstFrameSec + (o.frames - 1) * dt + std::max(o.warpSteps, ratio) / o.displayHz;
+    const double lastSec = clock.lastSec() + std::max(o.warpSteps, ratio) / o.displayHz;
     if (stream->validUntilSec() < lastSec) {
       // A trace shorter than the run is an error, not a silently held last pose.
       std::cerr << "steadyxr-eval: motion '" << sc.motion << "' ends at " << stream->validUntilSec()
@@ -229,7 +231,7 @@ int runSuite(const Options& o) {
       const imu::MotionState m = stream->at(std::max(0.0, t));
       return HeadPose{glm::normalize(m.orientation), m.position + scene.headOffset(t)};
     };
-    const RigSchedule rig{(o.frames - 1) * dt, trackedAt(firstFrameSec),
+    const RigSchedule rig{double(clock.periodOf(o.frames - 1)) * dt, trackedAt(firstFrameSec),
                           1.0 / ppdTangentScale(o.ppd, o.width)};
     auto headAt = [&](double t) { return rigPose(o.locomotion, rig, trackedAt(t), t - firstFrameSec); };
     std::vector<Accum> acc(variants.size());
@@ -258,7 +260,7 @@ int runSuite(const Options& o) {
     auto active = [&](const Variant& v) { return (!v.sweep || sc.sweeps) && (!v.oracle || oracleHere); };
 
     for (int f = 0; f < o.frames; ++f) {
-      const double t = firstFrameSec + f * dt;
+      const double t = clock.timeOf(f);
       const HeadPose head = headAt(t);
       // The head's angular speed at the frame (the stream's angular velocity: a trace's wx,wy,wz,
       // the IMU path's gyro), not a difference of two frames' poses.
@@ -488,9 +490,9 @@ int runSuite(const Options& o) {
     }
 
     // Rows of this scenario.
-    std::vector<int> changes = motionChangeFrames(sc, *stream, headSpeeds, firstFrameSec, dt, o.frames);
-    addContentChangeFrames(scene, firstFrameSec, dt, o.frames, &changes);  // video, fade, blink
-    addChangeFrames(locomotionChangeTimes(o.locomotion, rig), 0.0, dt, o.frames, &changes);
+    std::vector<int> changes = motionChangeFrames(sc, *stream, headSpeeds, clock);
+    addContentChangeFrames(scene, clock, &changes);  // video, fade, blink
+    addChangeFrames(locomotionChangeTimes(o.locomotion, rig), clock, &changes);
     const CaseFacts facts{safeDiv(gtStereoSum, gtStereoN),
                           changes,
                           percentile(headSpeeds, 0.95),
@@ -539,12 +541,16 @@ int runSuite(const Options& o) {
   writeResultsJson(o.outDir + "/results.json", o, rows, targets, device, seconds);
   if (o.corpus) writeCorpusCsv(o.outDir + "/corpus.csv", rows);
 
-  std::cout << "steadyxr-eval: " << scenarios.size() << " cases x " << variants.size() << " methods, "
-            << o.width << "x" << o.height << " per eye, " << o.frames << " frames at " << o.appHz
-            << " Hz (display " << o.displayHz << " Hz), ground truth " << o.gtGrid * o.gtGrid << " spp, "
-            << (o.unorm ? "UNORM" : "sRGB") << " eye images, "
-            << (o.mipmaps ? "trilinear mipmaps" : "no mipmaps") << ", device " << device << ", "
-            << fmt(seconds, 4) << " s\n";
+  std::cout
+      << "steadyxr-eval: " << scenarios.size() << " cases x " << variants.size() << " methods, " << o.width
+      << "x" << o.height << " per eye, " << o.frames << " frames at " << o.appHz << " Hz (display "
+      << o.displayHz << " Hz), ground truth " << o.gtGrid * o.gtGrid << " spp, "
+      << (o.unorm ? "UNORM" : "sRGB") << " eye images, " << (o.mipmaps ? "trilinear mipmaps" : "no mipmaps")
+      << (o.dropFrames > 0.0
+              ? ", " + std::to_string(FrameClock(o.frames, 0.0, 1.0, o.dropFrames, o.seed).missedPeriods()) +
+                    " app periods missed"
+              : std::string())
+      << ", device " << device << ", " << fmt(seconds, 4) << " s\n";
   std::cout
       << "MTCD (seed 003 Eq. 6), TempErr (temporal error vs ground truth) and StErr (per-pixel stereo error) "
          "in 8-bit code values; RMSE/SSIM vs ground truth on display-encoded [0,1]; worst/n = worst frame's "

@@ -43,6 +43,8 @@ struct Options {
   double ppd = 0.0;
   // The app's own rig motion on top of the head's, which the layer is not told (locomotion.h).
   Locomotion locomotion;
+  // > 0: the share of app periods the app misses (frame_clock.h): a missed frame's pose step is two periods.
+  double dropFrames = 0.0;
 };
 
 // Returns the process exit code (0 on success).
