@@ -9,29 +9,18 @@ for more than 3x, between the two. Under a smooth turn the default keeps the nev
 worst frame, recovery after the stick is pressed and released). The run records the locomotion, no locomotion case counts
 as a still head's, and a spec the eval cannot read stops it with exit 2 and a message.
 usage: run_locomotion_small.py STEADYXR_EVAL OUT_DIR"""
-import json
 import os
 import shutil
-import subprocess
 import sys
 
-from eval_run import run_eval
+from eval_run import assert_refused, rows_of, run_small_case
 
 exe, out = sys.argv[1], sys.argv[2]
 shutil.rmtree(out, ignore_errors=True)
 
 
 def run(tag, extra):
-    folder = os.path.join(out, tag)
-    cmd = [exe, "--out", folder, "--corpus", "--scenes", "imageviewer", "--motions", "tremor-1x", "--images",
-           "astronaut", "--frames", "24", "--methods", "none,taa,default", "--no-progress"] + extra
-    run_eval(cmd, tail=1500)
-    with open(os.path.join(folder, "results.json")) as f:
-        return json.load(f)
-
-
-def rows_of(doc):
-    return {r["method"]: r for r in doc["results"]}
+    return run_small_case(exe, os.path.join(out, tag), extra, "tremor-1x")
 
 
 still = run("still", [])
@@ -53,9 +42,5 @@ assert d["rmse"] <= t["none"]["rmse"], "the default is above none under a turn"
 assert d["ghost_worst_ratio"] <= 1.10, "a frame of the default above 1.10x none's under a turn"
 assert d["recovered"] and d["recovery_frames"] <= 3, "the default does not recover within 3 frames"
 
-env = dict(os.environ)
-env["ASAN_OPTIONS"] = (env.get("ASAN_OPTIONS", "") + ":detect_leaks=0").lstrip(":")
-bad = subprocess.run([exe, "--out", os.path.join(out, "bad"), "--locomotion", "walk:1", "--quick", "--no-progress"],
-                     capture_output=True, text=True, timeout=60, env=env)
-assert bad.returncode == 2 and "unknown kind 'walk'" in bad.stderr, (bad.returncode, bad.stderr)
+assert_refused(exe, os.path.join(out, "bad"), ["--locomotion", "walk:1"], "unknown kind 'walk'")
 print("ok")
