@@ -26,24 +26,33 @@ std::vector<int> motionChangeFrames(const Scenario& sc, const imu::MotionStream&
   return changes;
 }
 
-void addChangeFrames(const std::vector<double>& runTimes, const FrameClock& clock,
-                     std::vector<int>* changes) {
-  for (double tc : runTimes) {
-    const int k = clock.firstFrameAtOrAfterRunTime(tc);
+namespace {
+
+// Adds the frame each change time is first seen on (frameAt: -1 when none), keeping the list sorted
+// and without repeats.
+template <class FrameAt>
+void mergeChangeFrames(const std::vector<double>& times, FrameAt frameAt, std::vector<int>* changes) {
+  for (double tc : times) {
+    const int k = frameAt(tc);
     if (k >= 0) changes->push_back(k);
   }
   std::sort(changes->begin(), changes->end());
   changes->erase(std::unique(changes->begin(), changes->end()), changes->end());
 }
 
+}  // namespace
+
+void addChangeFrames(const std::vector<double>& runTimes, const FrameClock& clock,
+                     std::vector<int>* changes) {
+  mergeChangeFrames(
+      runTimes, [&](double t) { return clock.firstFrameAtOrAfterRunTime(t); }, changes);
+}
+
 void addContentChangeFrames(const Scene& scene, const FrameClock& clock, std::vector<int>* changes) {
   if (!scene.contentChanges) return;
-  for (double tc : scene.contentChanges(clock.firstSec(), clock.lastSec())) {
-    const int k = clock.firstFrameAtOrAfter(tc);
-    if (k >= 0) changes->push_back(k);
-  }
-  std::sort(changes->begin(), changes->end());
-  changes->erase(std::unique(changes->begin(), changes->end()), changes->end());
+  mergeChangeFrames(
+      scene.contentChanges(clock.firstSec(), clock.lastSec()),
+      [&](double t) { return clock.firstFrameAtOrAfter(t); }, changes);
 }
 
 ResultRow resultRow(const Scenario& sc, const Variant& v, const Accum& a, const Accum* none,

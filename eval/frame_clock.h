@@ -46,5 +46,9 @@ class FrameClock {
 // The span of a run's frames in app periods, as the FrameClock with these arguments has it
 // (the corpus places its window before the clock exists).
 int64_t spanInPeriods(int frames, double dropFraction, uint64_t seed);
+// App periods that run misses (for its report, without building the clock).
+inline int64_t missedPeriods(int frames, double dropFraction, uint64_t seed) {
+  return frames > 0 ? spanInPeriods(frames, dropFraction, seed) - (frames - 1) : 0;
+}
 
 }  // namespace steadyxr::eval

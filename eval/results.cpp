@@ -80,7 +80,7 @@ void writeResultsJson(const std::string& path, const Options& o, const std::vect
     << ", \"mipmaps\": " << boolStr(o.mipmaps) << ", \"corpus\": " << boolStr(o.corpus)
     << ", \"ppd\": " << o.ppd << ", \"locomotion\": " << jsonStr(toString(o.locomotion))
     << ", \"drop_frames\": " << o.dropFrames
-    << ", \"missed_periods\": " << FrameClock(o.frames, 0.0, 1.0, o.dropFrames, o.seed).missedPeriods()
+    << ", \"missed_periods\": " << missedPeriods(o.frames, o.dropFrames, o.seed)
     << ", \"device\": " << jsonStr(device)
     << ", \"color_space\": \"display-encoded (sRGB) 8-bit values scaled to [0,1]; MTCD, temporal and stereo "
        "error in 8-bit code values\""

@@ -541,16 +541,15 @@ int runSuite(const Options& o) {
   writeResultsJson(o.outDir + "/results.json", o, rows, targets, device, seconds);
   if (o.corpus) writeCorpusCsv(o.outDir + "/corpus.csv", rows);
 
-  std::cout
-      << "steadyxr-eval: " << scenarios.size() << " cases x " << variants.size() << " methods, " << o.width
-      << "x" << o.height << " per eye, " << o.frames << " frames at " << o.appHz << " Hz (display "
-      << o.displayHz << " Hz), ground truth " << o.gtGrid * o.gtGrid << " spp, "
-      << (o.unorm ? "UNORM" : "sRGB") << " eye images, " << (o.mipmaps ? "trilinear mipmaps" : "no mipmaps")
-      << (o.dropFrames > 0.0
-              ? ", " + std::to_string(FrameClock(o.frames, 0.0, 1.0, o.dropFrames, o.seed).missedPeriods()) +
-                    " app periods missed"
-              : std::string())
-      << ", device " << device << ", " << fmt(seconds, 4) << " s\n";
+  std::cout << "steadyxr-eval: " << scenarios.size() << " cases x " << variants.size() << " methods, "
+            << o.width << "x" << o.height << " per eye, " << o.frames << " frames at " << o.appHz
+            << " Hz (display " << o.displayHz << " Hz), ground truth " << o.gtGrid * o.gtGrid << " spp, "
+            << (o.unorm ? "UNORM" : "sRGB") << " eye images, "
+            << (o.mipmaps ? "trilinear mipmaps" : "no mipmaps")
+            << (o.dropFrames > 0.0 ? ", " + std::to_string(missedPeriods(o.frames, o.dropFrames, o.seed)) +
+                                         " app periods missed"
+                                   : std::string())
+            << ", device " << device << ", " << fmt(seconds, 4) << " s\n";
   std::cout
       << "MTCD (seed 003 Eq. 6), TempErr (temporal error vs ground truth) and StErr (per-pixel stereo error) "
          "in 8-bit code values; RMSE/SSIM vs ground truth on display-encoded [0,1]; worst/n = worst frame's "

@@ -42,6 +42,8 @@ TEST(EvalFrameClock, MissesWholePeriodsAsOftenAsAsked) {
   const double expected = p + p * p + p * p * p;
   EXPECT_NEAR(double(missed) / (frames - 1), expected, 0.04);  // about 4 standard errors
   EXPECT_EQ(spanInPeriods(frames, p, 11), clock.periodOf(frames - 1));
+  EXPECT_EQ(missedPeriods(frames, p, 11), missed);  // the report's count, without the clock
+  EXPECT_EQ(missedPeriods(0, p, 11), 0);
   // The same seed draws the same misses (every case of a run); another seed others.
   const FrameClock again(frames, kFirstSec, kDt, p, 11), other(frames, kFirstSec, kDt, p, 12);
   EXPECT_EQ(again.missedPeriods(), clock.missedPeriods());
