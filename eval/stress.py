@@ -61,6 +61,11 @@ DEPTH_SCENES_PPD_PER_96PX = 14.0
 LOCOMOTION_KINDS = ("turn", "strafe", "forward", "snap")
 # A walk ahead stops this far short of the image viewer's picture (1.5 m): 0.5 m from it.
 FORWARD_MAX_M = 1.0
+# --drop-fraction: an app that misses frame deadlines (the eval's --drop-frames P: each app period after a
+# frame missed with probability P), drawn from its own generator as the locomotion. P from an app that
+# stutters now and then (5 %) to one that misses nearly a third of its frames; beyond that a runtime locks
+# the app to half rate (a steady 2-period step, which the eval's --app-hz already covers).
+DROP_RANGE = (0.05, 0.3)
 
 
 def parse_args(argv):
@@ -87,6 +92,9 @@ def parse_args(argv):
     p.add_argument("--locomotion-fraction", type=float, default=0.0,
                    help="share of cases whose app moves its rig (a smooth turn, a walk, a snap turn) without "
                         "telling the layer (default 0: the draws of earlier rounds)")
+    p.add_argument("--drop-fraction", type=float, default=0.0,
+                   help="share of cases whose app misses frames (--drop-frames %g-%g; default 0: the draws of "
+                        "earlier rounds)" % DROP_RANGE)
     p.add_argument("--generate-only", action="store_true", help="write pictures and traces, run nothing")
     args = p.parse_args(argv)
     unknown = [k for k in args.pictures.split(",") if k not in stress_pictures.KINDS]
@@ -117,6 +125,7 @@ def draw_case(seed, index, args):
     noise = float(np.exp(rng.uniform(np.log(0.01), np.log(0.08)))) if rng.uniform() < args.noise_fraction else 0.0
     locomotion = draw_locomotion(np.random.default_rng([seed, index, 7]), args.locomotion_fraction,
                                  frames / app_hz)
+    drop = draw_drops(np.random.default_rng([seed, index, 11]), args.drop_fraction)
     return {
         "index": index,
         "name": f"s{seed}c{index:03d}",
@@ -131,6 +140,7 @@ def draw_case(seed, index, args):
         "unorm": unorm,
         "noise": round(noise, 4),
         "locomotion": locomotion,
+        "drop": drop,
         "rng": rng,
     }
 
@@ -150,6 +160,13 @@ def draw_locomotion(rng, fraction, run_s):
         # The stick is held for half the run (eval/locomotion.h): a walk ahead stays short of the picture.
         amount = sign * amount if kind == "strafe" else min(amount, FORWARD_MAX_M / (run_s / 2.0))
     return f"{kind}:{amount:.3g}"
+
+
+def draw_drops(rng, fraction):
+    """The eval's --drop-frames P of a case (0 for an app that makes every frame)."""
+    if rng.uniform() >= fraction:
+        return 0.0
+    return round(float(rng.uniform(*DROP_RANGE)), 3)
 
 
 def write_case_inputs(case, out):
@@ -188,6 +205,8 @@ def eval_command(case, args, out_dir):
         cmd += ["--noise", f"{case['noise']:g}"]
     if case.get("locomotion"):
         cmd += ["--locomotion", case["locomotion"]]
+    if case.get("drop", 0.0) > 0:
+        cmd += ["--drop-frames", f"{case['drop']:g}"]
     return cmd
 
 
@@ -266,7 +285,8 @@ def describe_motion(case):
     short = {"tremor_rms_deg": "tr", "drift_deg_s": "dr", "sway_hz": "sw", "pursuit_deg_s": "pu",
              "saccade_deg": "sa", "turn_peak_deg_s": "tu"}
     text = case["motion_kind"] + "(" + ",".join(f"{s}={p[k]}" for k, s in short.items() if k in p) + ")"
-    return text + ("+" + case["locomotion"] if case.get("locomotion") else "")
+    return text + ("+" + case["locomotion"] if case.get("locomotion") else "") + \
+        (f"+drop{case['drop']:g}" if case.get("drop", 0.0) > 0 else "")
 
 
 def print_table(cases):
@@ -325,7 +345,8 @@ def breakdown(cases):
     axes = {"scene": lambda c: c["scene"], "picture": lambda c: c["picture_kind"] if c["scene"] in PICTURED_SCENES
             else None, "motion": lambda c: c["motion_kind"], "ppd": lambda c: f"{c['ppd']:g}",
             "app Hz": lambda c: f"{c['app_hz']:g}", "mipmaps": lambda c: "y" if c["mipmaps"] else "n",
-            "locomotion": lambda c: c["locomotion"].split(":")[0] if c.get("locomotion") else "none"}
+            "locomotion": lambda c: c["locomotion"].split(":")[0] if c.get("locomotion") else "none",
+            "dropped frames": lambda c: "yes" if c.get("drop", 0.0) > 0 else "no"}
     lines = []
     for axis, key in axes.items():
         groups = {}

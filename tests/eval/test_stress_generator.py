@@ -166,4 +166,21 @@ for i in range(40):
         assert float(amount) > 0 and float(amount) * with_rig["frames"] / with_rig["app_hz"] / 2 <= 1.0 + 1e-3, \
             with_rig
 assert kinds == set(limits), kinds
+# --drop-fraction: P within DROP_RANGE, a share of the cases near the fraction, the rest of a case as drawn
+# without it, and the eval told it.
+dropping = stress.parse_args(["--eval", "x", "--out", "y", "--drop-fraction", "0.5"])
+drops = []
+for i in range(40):
+    with_drops, without = stress.draw_case(62, i, dropping), stress.draw_case(62, i, every)
+    assert without["drop"] == 0.0, without
+    assert {k: v for k, v in with_drops.items() if k not in ("drop", "rng")} == \
+        {k: v for k, v in without.items() if k not in ("drop", "rng")}, i
+    command = stress.eval_command(dict(with_drops, trace="t.csv", picture="p.png"), dropping, Path("out"))
+    if with_drops["drop"] > 0:
+        assert stress.DROP_RANGE[0] <= with_drops["drop"] <= stress.DROP_RANGE[1], with_drops["drop"]
+        assert command[command.index("--drop-frames") + 1] == f"{with_drops['drop']:g}", command
+        drops.append(with_drops["drop"])
+    else:
+        assert "--drop-frames" not in command, command
+assert 10 <= len(drops) <= 30, len(drops)  # 20 expected; about 3 standard deviations either side
 print("stress generator OK")
