@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <future>
 #include <sstream>
 #include <thread>
@@ -97,6 +98,7 @@ class App {
     EXPECT_EQ(session_->acquire(swapchain_, nullptr, &index), XR_SUCCESS);
     auto wi = makeXr<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
     EXPECT_EQ(session_->next().waitSwapchainImage(swapchain_, &wi), XR_SUCCESS);
+    if (content) fake_.chains[swapchain_].images[index]->upload(*content, 0, kRenderedLayout);
     EXPECT_EQ(session_->release(swapchain_, nullptr), XR_SUCCESS);
     for (uint32_t v = 0; v < 2; ++v) {
       views_[v] = makeXr<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW);
@@ -115,6 +117,19 @@ class App {
     info_.layerCount = 1;
     info_.layers = layers_.data();
     return session_->endFrame(&info_);
+  }
+  // A frame without the app's world (a loading screen, a pause): no layer at all.
+  XrResult emptyFrame() {
+    info_ = makeXr<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
+    info_.displayTime = time_ += 11'000'000;
+    info_.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
+    return session_->endFrame(&info_);
+  }
+  // What the runtime was last handed to show: the layer's output image, both views side by side.
+  test::HostImage shown() {
+    FakeRuntime::Chain& out = fake_.chains[fake_.lastSubmittedSwapchain];
+    const auto n = static_cast<uint32_t>(out.images.size());
+    return out.images[(out.nextIndex + n - 1) % n]->download(0, kRenderedLayout);  // released last
   }
   // Frames until the first is filtered (the pipelines compile in the background).
   bool warmUp() {
@@ -140,6 +155,9 @@ class App {
   std::array<const XrCompositionLayerBaseHeader*, 1> layers_{};
   XrFrameEndInfo info_{};
   XrTime time_ = 1'000'000'000;
+  std::optional<test::HostImage> content;  // what each frame renders, if set
+  // The Vulkan binding's layout between wait and release, and the runtime's after release.
+  static constexpr VkImageLayout kRenderedLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
 };
 
 class SessionTest : public ::testing::Test {
@@ -300,6 +318,50 @@ TEST_F(SessionTest, JitteredFovIsUndoneOnSubmit) {
   EXPECT_EQ(unjittered.jitterUnmatched, jittered.jitterUnmatched + 2);
   ASSERT_EQ(fake.lastSubmittedFovs.size(), 2u);
   for (const XrFovf& f : fake.lastSubmittedFovs) EXPECT_TRUE(sameFov(f, own));
+}
+
+// The largest difference between two images in any channel.
+float largestDifference(const test::HostImage& a, const test::HostImage& b) {
+  float worst = 0.0f;
+  for (size_t i = 0; i < a.px.size() && i < b.px.size(); ++i)
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(a.px[i][c] - b.px[i][c]));
+  return a.px.size() == b.px.size() ? worst : 1e9f;
+}
+
+// The history is the app's world as the layer last filtered it. After a frame without that world
+// (a loading screen) or a gap longer than four app periods, the next frame starts afresh and shows
+// the app's own image; across a shorter gap (three frames missed) plain taa blends its history in.
+// The pictures: the "old level" a flat grey, the "new level" a checker of black and white pixels,
+// whose 3x3 boxes hold the grey, so nothing but dropping the history keeps the grey out.
+TEST_F(SessionTest, HistoryIsDroppedAfterAFrameWithoutTheAppsWorldOrALongGap) {
+  FakeRuntime fake(*gVk);
+  Config cfg;
+  cfg.method = "taa";  // plain taa: the grey survives its clip, as the test needs
+  App app(fake, cfg);
+  const test::HostImage grey(64, 32, glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
+  test::HostImage checker(64, 32);
+  for (uint32_t y = 0; y < 32; ++y)
+    for (uint32_t x = 0; x < 64; ++x) checker.at(x, y) = glm::vec4(glm::vec3(float((x + y) % 2)), 1.0f);
+  app.content = grey;
+  ASSERT_TRUE(app.warmUp());
+  const auto newLevelAfter = [&](const std::function<void()>& between) {
+    app.content = grey;
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(app.frame(), XR_SUCCESS);
+    between();
+    app.content = checker;
+    EXPECT_EQ(app.frame(), XR_SUCCESS);
+    EXPECT_NE(fake.lastSubmittedSwapchain, app.swapchain_);  // filtered
+    return largestDifference(app.shown(), checker);
+  };
+  const uint64_t droppedBefore = app.session_->stats().historyDropped;
+  EXPECT_GT(newLevelAfter([] {}), 0.2f);  // the grey blended in: the test can see a history
+  EXPECT_GT(newLevelAfter([&] { app.time_ += 3 * 11'000'000; }), 0.2f);  // three frames missed: kept
+  EXPECT_EQ(app.session_->stats().historyDropped, droppedBefore);
+  XrResult empty = XR_ERROR_RUNTIME_FAILURE;
+  EXPECT_LE(newLevelAfter([&] { empty = app.emptyFrame(); }), 1.0f / 255.0f);
+  EXPECT_EQ(empty, XR_SUCCESS);
+  EXPECT_LE(newLevelAfter([&] { app.time_ += 2'000'000'000; }), 1.0f / 255.0f);  // paused for 2 s
+  EXPECT_EQ(app.session_->stats().historyDropped, droppedBefore + 2);
 }
 
 TEST_F(SessionTest, SwapchainsTheAppNeverEnumeratedAreFiltered) {

@@ -95,7 +95,7 @@ std::string SessionStats::summary() const {
   os << "session summary: frames_filtered=" << framesFiltered << " left=" << viewsFiltered[0]
      << " right=" << viewsFiltered[1] << " frames_passed_through=" << passedTotal
      << " frames_warming_up=" << warmingUp << " frames_empty=" << framesEmpty
-     << " frames_disabled=" << framesDisabled;
+     << " frames_disabled=" << framesDisabled << " history_dropped=" << historyDropped;
   if (passedTotal > 0) {
     os << " (";
     bool first = true;

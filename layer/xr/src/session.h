@@ -5,6 +5,7 @@
 #include "config.h"
 #include "config_watch.h"
 #include "dump.h"
+#include "history_continuity.h"
 #include "log.h"
 #include "rewrite.h"
 #include "status_file.h"
@@ -122,6 +123,7 @@ struct SessionStats {
   uint64_t jitterApplied = 0;      // views jittered in xrLocateViews
   uint64_t jitterUndone = 0;       // filtered views submitted with the jitter undone
   uint64_t jitterUnmatched = 0;    // filtered views whose fov was not one the layer jittered
+  uint64_t historyDropped = 0;     // filtered frames that started without the history (HistoryContinuity)
   std::string summary() const;
 };
 
@@ -208,6 +210,7 @@ class Session {
   float smoothedSpeed_ = 0.0f;
   std::unique_ptr<imu::ImuPoseSource> imu_;  // pose_source = imu: head speed from the IMU
   SessionStats stats_;
+  HistoryContinuity continuity_;  // under mutex_: frames without the app's world pass unlocked
   ImageDumper dumper_;
   bool mutableFormat_ = false;
   // jitter = on with a temporal method (the only ones that un-jitter the image): sub-pixel

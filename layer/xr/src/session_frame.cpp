@@ -102,7 +102,16 @@ XrResult Session::endFrame(const XrFrameEndInfo* info) {
     if (!work.passReason) work.passReason = acquireOutputs(work);
     if (!work.passReason) {
       work.input.headSpeedDegPerSec = headSpeed(*work.projection, work.input.displayTimeNs);
+      {
+        std::lock_guard lock(mutex_);
+        work.input.reset = continuity_.mustDrop(work.input.displayTimeNs);
+      }
       work.passReason = runFilter(work);
+      if (!work.passReason) {
+        std::lock_guard lock(mutex_);
+        continuity_.filtered(work.input.displayTimeNs);
+        if (work.input.reset) ++stats_.historyDropped;
+      }
     }
     releaseOutputs(work);
     if (!work.passReason) {
@@ -351,6 +360,7 @@ void Session::countFrame(const FrameWork& work, XrResult runtimeResult) {
   std::lock_guard lock(mutex_);
   if (!work.projection) {
     ++stats_.framesEmpty;
+    continuity_.frameWithoutWorld();
   } else if (work.passReason) {
     passed(*work.passReason, "projection layer left as the app submitted it");
   } else if (XR_FAILED(runtimeResult)) {
@@ -384,6 +394,7 @@ void Session::countUnfiltered(const FrameScan& scan) {
     ++(filtering_ ? stats_.framesDisabled : stats_.passed[static_cast<size_t>(failedReason_)]);
   } else {
     ++stats_.framesEmpty;
+    continuity_.frameWithoutWorld();
   }
 }
 
