@@ -2,7 +2,8 @@
 // the app's world as the layer last filtered it. It is dropped when the user has since seen
 // something else: the app submitted frames without its world (no projection layer: a loading
 // screen, a pause menu of quad layers, a session that stopped rendering). It is also dropped when
-// more time has passed than any measurement covers. Dropping costs only the re-accumulation: the
+// the poses come in another space than the history's (the step between them is not known), and
+// when more time has passed than any measurement covers. Dropping costs only the re-accumulation: the
 // first frame after it is the app's own image.
 #pragma once
 
@@ -29,10 +30,12 @@ class HistoryContinuity {
   // no history to drop: apps submit empty frames until they render).
   void frameWithoutWorld() { worldLeft_ = lastFilteredNs_.has_value(); }
 
-  // Whether the frame at this display time must start without the history.
-  bool mustDrop(int64_t displayTimeNs) const {
+  // Whether the frame at this display time, its poses in `poseSpace` (the projection layer's
+  // XrSpace as a number), must start without the history.
+  bool mustDrop(int64_t displayTimeNs, uint64_t poseSpace) const {
     if (worldLeft_) return true;
     if (!lastFilteredNs_) return false;  // the filter has no history yet
+    if (poseSpace != lastSpace_) return true;
     const int64_t step = displayTimeNs - *lastFilteredNs_;
     if (step <= 0) return true;  // time went back: a new session, or an app's bad display time
     const int64_t period = recentPeriod();
@@ -40,7 +43,8 @@ class HistoryContinuity {
   }
 
   // The filter filtered the frame at this display time (its history now ends there).
-  void filtered(int64_t displayTimeNs) {
+  void filtered(int64_t displayTimeNs, uint64_t poseSpace) {
+    lastSpace_ = poseSpace;
     if (lastFilteredNs_ && displayTimeNs > *lastFilteredNs_) {
       steps_[stepCount_ % kPeriodSteps] = displayTimeNs - *lastFilteredNs_;
       ++stepCount_;
@@ -59,6 +63,7 @@ class HistoryContinuity {
  private:
   bool worldLeft_ = false;
   std::optional<int64_t> lastFilteredNs_;
+  uint64_t lastSpace_ = 0;
   std::array<int64_t, kPeriodSteps> steps_{};
   size_t stepCount_ = 0;
 };

@@ -48,6 +48,10 @@ core::ImageRef imageRef(const XrSwapchainCreateInfo& info, VkImage image, const 
   return r;
 }
 
+uint64_t spaceId(XrSpace space) {
+  return reinterpret_cast<uint64_t>(space);  // XrSpace is a pointer or a 64-bit handle: both fit
+}
+
 VkExtent2D extentOf(const XrRect2Di& r) {
   return {static_cast<uint32_t>(std::max(r.extent.width, 0)),
           static_cast<uint32_t>(std::max(r.extent.height, 0))};
@@ -104,12 +108,12 @@ XrResult Session::endFrame(const XrFrameEndInfo* info) {
       work.input.headSpeedDegPerSec = headSpeed(*work.projection, work.input.displayTimeNs);
       {
         std::lock_guard lock(mutex_);
-        work.input.reset = continuity_.mustDrop(work.input.displayTimeNs);
+        work.input.reset = continuity_.mustDrop(work.input.displayTimeNs, spaceId(work.projection->space));
       }
       work.passReason = runFilter(work);
       if (!work.passReason) {
         std::lock_guard lock(mutex_);
-        continuity_.filtered(work.input.displayTimeNs);
+        continuity_.filtered(work.input.displayTimeNs, spaceId(work.projection->space));
         if (work.input.reset) ++stats_.historyDropped;
       }
     }
