@@ -34,6 +34,7 @@ CaseSpec caseSpec(const std::string& name) {
     s.dumpable = false;  // the layer dumps 8-bit images only
   }
   if (name == "resize") s.resize = true;
+  if (name == "loading") s.loading = true;
   if (name == "invalid") {  // a side-by-side swapchain, then the invalid calls
     s.kind = CaseKind::Invalid;
     s.format = VK_FORMAT_R8G8B8A8_UNORM;
@@ -383,6 +384,14 @@ CaseResult Xr::runCase(const CaseSpec& spec, int frames) {
       return finish(false, " xrWaitFrame " + resultName(instance_, r));
     if (XR_FAILED(r = xrBeginFrame(session, nullptr)))
       return finish(false, " xrBeginFrame " + resultName(instance_, r));
+    if (spec.loading && f >= loadingStart(frames) && f < loadingStart(frames) + kLoadingFrames) {
+      auto ei = xrStruct<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);  // no layers: a loading screen
+      ei.displayTime = fs.predictedDisplayTime;
+      ei.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
+      if (XR_FAILED(r = xrEndFrame(session, &ei)))
+        return finish(false, " xrEndFrame (no layers) " + resultName(instance_, r));
+      continue;
+    }
     auto vli = xrStruct<XrViewLocateInfo>(XR_TYPE_VIEW_LOCATE_INFO);
     vli.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
     vli.displayTime = fs.predictedDisplayTime;

@@ -19,14 +19,20 @@ struct CaseSpec {
   VkFormat format = VK_FORMAT_R8G8B8A8_SRGB;
   XrCompositionLayerFlags flags = 0;
   bool depth = false;
-  bool multi = false;   // a second projection layer and a quad after the first
-  bool resize = false;  // new swapchains of another size half-way
+  bool multi = false;    // a second projection layer and a quad after the first
+  bool resize = false;   // new swapchains of another size half-way
+  bool loading = false;  // frames without layers three quarters in (a loading screen)
   bool translucent = false;
   bool expectFiltered = true;
   bool dumpable = true;      // 8-bit: the layer dumps it
   std::string expectReason;  // when not filtered: the layer's pass-through reason
 };
 CaseSpec caseSpec(const std::string& name);
+// The loading case's frames without layers: how many, and the first.
+constexpr int kLoadingFrames = 3;
+inline int loadingStart(int frames) {
+  return frames * 3 / 4;
+}
 
 struct CaseResult {
   bool ok = false;
