@@ -106,14 +106,15 @@ XrResult Session::endFrame(const XrFrameEndInfo* info) {
     if (!work.passReason) work.passReason = acquireOutputs(work);
     if (!work.passReason) {
       work.input.headSpeedDegPerSec = headSpeed(*work.projection, work.input.displayTimeNs);
+      const uint64_t poseSpace = spaceId(work.projection->space);
       {
         std::lock_guard lock(mutex_);
-        work.input.reset = continuity_.mustDrop(work.input.displayTimeNs, spaceId(work.projection->space));
+        work.input.reset = continuity_.mustDrop(work.input.displayTimeNs, poseSpace);
       }
       work.passReason = runFilter(work);
       if (!work.passReason) {
         std::lock_guard lock(mutex_);
-        continuity_.filtered(work.input.displayTimeNs, spaceId(work.projection->space));
+        continuity_.filtered(work.input.displayTimeNs, poseSpace);
         if (work.input.reset) ++stats_.historyDropped;
       }
     }

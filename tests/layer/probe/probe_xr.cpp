@@ -87,6 +87,14 @@ bool Xr::init(Api api) {
 }
 
 namespace {
+// Ends the frame with no layers, as an app does before it renders or while it shows nothing of its own.
+XrResult endEmptyFrame(XrSession session, XrTime displayTime) {
+  auto ei = xrStruct<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
+  ei.displayTime = displayTime;
+  ei.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
+  return xrEndFrame(session, &ei);
+}
+
 uint32_t pickFamily(VkPhysicalDevice pd) {
   uint32_t n = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
@@ -300,10 +308,7 @@ CaseResult Xr::runCase(const CaseSpec& spec, int frames) {
         auto fs = xrStruct<XrFrameState>(XR_TYPE_FRAME_STATE);
         if (XR_FAILED(xrWaitFrame(session, nullptr, &fs))) break;
         xrBeginFrame(session, nullptr);
-        auto ei = xrStruct<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
-        ei.displayTime = fs.predictedDisplayTime;
-        ei.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
-        xrEndFrame(session, &ei);
+        endEmptyFrame(session, fs.predictedDisplayTime);
       }
       xrEndSession(session);
     }
@@ -363,10 +368,7 @@ CaseResult Xr::runCase(const CaseSpec& spec, int frames) {
       auto fs = xrStruct<XrFrameState>(XR_TYPE_FRAME_STATE);
       xrWaitFrame(session, nullptr, &fs);
       xrBeginFrame(session, nullptr);
-      auto ei = xrStruct<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
-      ei.displayTime = fs.predictedDisplayTime;
-      ei.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
-      xrEndFrame(session, &ei);
+      endEmptyFrame(session, fs.predictedDisplayTime);
     }
     const std::string results = invalidCalls(session, space, color[0]);
     return finish(results.find("render failed") == std::string::npos, results);
@@ -385,10 +387,7 @@ CaseResult Xr::runCase(const CaseSpec& spec, int frames) {
     if (XR_FAILED(r = xrBeginFrame(session, nullptr)))
       return finish(false, " xrBeginFrame " + resultName(instance_, r));
     if (spec.loading && f >= loadingStart(frames) && f < loadingStart(frames) + kLoadingFrames) {
-      auto ei = xrStruct<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);  // no layers: a loading screen
-      ei.displayTime = fs.predictedDisplayTime;
-      ei.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
-      if (XR_FAILED(r = xrEndFrame(session, &ei)))
+      if (XR_FAILED(r = endEmptyFrame(session, fs.predictedDisplayTime)))  // a loading screen
         return finish(false, " xrEndFrame (no layers) " + resultName(instance_, r));
       continue;
     }
