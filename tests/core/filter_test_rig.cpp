@@ -31,20 +31,29 @@ std::array<HostImage, 2> Rig::run(Filter& f, const Frame& fr, uint32_t viewCount
   sf.headSpeedDegPerSec = fr.headSpeed;
   sf.reset = fr.reset;
   for (uint32_t e = 0; e < viewCount; ++e) {
+    // A frame smaller than the rig is a rect at the images' top-left corner (an app's dynamic resolution);
+    // around it the input holds a bright colour that no pass may read.
+    const VkRect2D rect{{0, 0}, {fr.color[e].width, fr.color[e].height}};
+    const bool part = rect.extent.width != w_ || rect.extent.height != h_;
+    if (part) {
+      HostImage around(w_, h_);
+      for (auto& px : around.px) px = glm::vec4(8.0f, 0.0f, 8.0f, 1.0f);
+      in_[e]->upload(around, 0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    }
     in_[e]->upload(fr.color[e], 0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    sf.views[e].color = in_[e]->ref(0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    sf.views[e].color = in_[e]->ref(0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, rect);
     sf.views[e].pose = fr.views[e].pose;
     sf.views[e].fov = fr.views[e].fov;
     sf.views[e].jitterPx = fr.jitter[e];
     if (!fr.depth[e].px.empty()) {
       depth_[e]->upload(fr.depth[e], 0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
       DepthRef d;
-      d.image = depth_[e]->ref(0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+      d.image = depth_[e]->ref(0, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, rect);
       d.nearZ = 0.1f;
       d.farZ = 100.0f;
       sf.views[e].depth = d;
     }
-    so.views[e] = out_[e]->ref(0, outLayout_);
+    so.views[e] = out_[e]->ref(0, outLayout_, rect);
     so.views[e].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
   }
   std::string err;
@@ -57,7 +66,8 @@ std::array<HostImage, 2> Rig::run(Filter& f, const Frame& fr, uint32_t viewCount
   outLayout_ = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
   std::array<HostImage, 2> result;
   for (uint32_t e = 0; e < viewCount; ++e)
-    result[e] = out_[e]->download(0, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    result[e] = out_[e]->download(0, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 0, 0, fr.color[e].width,
+                                  fr.color[e].height);
   return result;
 }
 

@@ -37,7 +37,7 @@ class CoreTest : public ValidatedContextTest {
 };
 
 struct Frame {
-  std::array<HostImage, 2> color;
+  std::array<HostImage, 2> color;  // smaller than the Rig: a rect at its images' top-left corner
   std::array<RefView, 2> views;
   std::array<HostImage, 2> depth{};  // empty = none
   float headSpeed = 0.0f;

@@ -15,8 +15,13 @@ using glm::vec4;
 
 bool reprojectRef(vec2 pc, float dist, const RefView& from, const RefView& to, glm::uvec2 size, vec2* q,
                   float* distTo) {
+  return reprojectRef(pc, dist, from, size, to, size, q, distTo);
+}
+
+bool reprojectRef(vec2 pc, float dist, const RefView& from, glm::uvec2 fromSize, const RefView& to,
+                  glm::uvec2 size, vec2* q, float* distTo) {
   const glm::mat4 pFrom = core::projectionFromFov(from.fov, 0.1f, 100.0f);
-  const vec2 ndc = pc / vec2(size) * 2.0f - 1.0f;
+  const vec2 ndc = pc / vec2(fromSize) * 2.0f - 1.0f;
   vec4 v = glm::inverse(pFrom) * vec4(ndc, 0.0f, 1.0f);
   v /= v.w;
   const vec3 pView = vec3(v) * (dist / -v.z);
@@ -101,7 +106,7 @@ HostImage temporalRef(core::TemporalMethod m, const core::Params& p, const HostI
                       const HostImage& hist, bool histValid, const RefView& prev, const RefView& now,
                       float headSpeed, const HostImage* depth, float nearZ, float farZ) {
   HostImage out(cur.width, cur.height);
-  const glm::uvec2 size(cur.width, cur.height);
+  const glm::uvec2 size(cur.width, cur.height), histSize(hist.width, hist.height);
   const bool interpolated = m == core::TemporalMethod::Hmtaa || m == core::TemporalMethod::Hybrid;
   const uint32_t n = interpolated ? p.sampleCount : 1;
   float w[4];
@@ -125,7 +130,7 @@ HostImage temporalRef(core::TemporalMethod m, const core::Params& p, const HostI
                                  : prev;
           vec2 q;
           float dt;
-          if (reprojectRef(pc, dist, now, at, size, &q, &dt)) {
+          if (reprojectRef(pc, dist, now, size, at, histSize, &q, &dt)) {
             past += w[i] * (p.historyFilter == core::HistoryFilter::CatmullRom ? catmullRom5(hist, q)
                                                                                : bilinear(hist, q));
             wsum += w[i];

@@ -16,14 +16,18 @@ struct RefView {
 // Pixel centre pc of `from` at view distance `dist` (metres) -> continuous pixel coords in `to`.
 bool reprojectRef(glm::vec2 pc, float dist, const RefView& from, const RefView& to, glm::uvec2 size,
                   glm::vec2* q, float* distTo);
+// The same where the two views' images differ in size (an app's dynamic resolution): pc in fromSize's
+// pixels, q in toSize's.
+bool reprojectRef(glm::vec2 pc, float dist, const RefView& from, glm::uvec2 fromSize, const RefView& to,
+                  glm::uvec2 toSize, glm::vec2* q, float* distTo);
 
 glm::vec3 fetchClamped(const HostImage& img, int x, int y);
 glm::vec3 bilinear(const HostImage& img, glm::vec2 q);
 // Catmull-Rom at q without its four corner texels (renormalised), clamped at 0.
 glm::vec3 catmullRom5(const HostImage& img, glm::vec2 q);
 
-// One temporal step. `hist` is the previous history (same size as `cur`), `histValid` false on the
-// first frame. headSpeed in deg/s. Returns the new history (= the output when no stereo follows).
+// One temporal step. `hist` is the previous history (any size: the app's last render size), `histValid` false
+// on the first frame. headSpeed in deg/s. Returns the new history (= the output when no stereo follows).
 HostImage temporalRef(core::TemporalMethod m, const core::Params& p, const HostImage& cur,
                       const HostImage& hist, bool histValid, const RefView& prev, const RefView& now,
                       float headSpeed, const HostImage* depth = nullptr, float nearZ = 0.1f,

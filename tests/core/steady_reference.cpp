@@ -73,7 +73,7 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
                     const RefView& prev, const RefView& now, const HostImage* depth, float nearZ, float farZ,
                     glm::vec2 jitterPx, bool srgbInput) {
   HostImage out(cur.width, cur.height);
-  const glm::uvec2 size(cur.width, cur.height);
+  const glm::uvec2 size(cur.width, cur.height), histSize(hist.width, hist.height);
   const bool catmull = p.historyFilter == core::HistoryFilter::CatmullRom;
   // The history was rendered from `prev`; the ablation reprojects to a pose between (seed 003).
   const RefView from = p.steadyInterpolated
@@ -136,8 +136,8 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
       if (depth) distance = 1.0f / (1.0f / nearZ + depth->at(x, y).r * (1.0f / farZ - 1.0f / nearZ));
       vec2 q;
       float distPrev = 0;
-      const bool confirmed =
-          histValid && reprojectRef(vec2(x + 0.5f, y + 0.5f), distance, now, from, size, &q, &distPrev);
+      const bool confirmed = histValid && reprojectRef(vec2(x + 0.5f, y + 0.5f), distance, now, size, from,
+                                                       histSize, &q, &distPrev);
       vec3 result = area;
       float count = 1.0f;
       if (confirmed) {

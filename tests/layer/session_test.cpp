@@ -105,7 +105,7 @@ class App {
       views_[v].pose.orientation.w = 1.0f;
       views_[v].fov = fov_[v];
       views_[v].subImage.swapchain = swapchain_;
-      views_[v].subImage.imageRect = {{int32_t(32 * v), 0}, {32, 32}};
+      views_[v].subImage.imageRect = {{int32_t(32 * v), 0}, {renderSize, renderSize}};
     }
     proj_ = makeXr<XrCompositionLayerProjection>(XR_TYPE_COMPOSITION_LAYER_PROJECTION);
     proj_.viewCount = 2;
@@ -156,6 +156,7 @@ class App {
   XrFrameEndInfo info_{};
   XrTime time_ = 1'000'000'000;
   std::optional<test::HostImage> content;  // what each frame renders, if set
+  int32_t renderSize = 32;  // each view's rect: this square at the top-left of its half of the image
   // The Vulkan binding's layout between wait and release, and the runtime's after release.
   static constexpr VkImageLayout kRenderedLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
 };
@@ -362,6 +363,43 @@ TEST_F(SessionTest, HistoryIsDroppedAfterAFrameWithoutTheAppsWorldOrALongGap) {
   EXPECT_EQ(empty, XR_SUCCESS);
   EXPECT_LE(newLevelAfter([&] { app.time_ += 2'000'000'000; }), 1.0f / 255.0f);  // paused for 2 s
   EXPECT_EQ(app.session_->stats().historyDropped, droppedBefore + 2);
+}
+
+// Dynamic resolution: an app that renders a smaller or larger part of its swapchain from one frame to the
+// next (up to the size it started at) keeps its history; plain taa blends the old grey into the checker
+// inside each view's rect, at 24 px after 32 and at 32 after 24.
+TEST_F(SessionTest, HistoryIsKeptWhenTheAppChangesItsRenderSize) {
+  FakeRuntime fake(*gVk);
+  Config cfg;
+  cfg.method = "taa";
+  App app(fake, cfg);
+  const test::HostImage grey(64, 32, glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
+  test::HostImage checker(64, 32);
+  for (uint32_t y = 0; y < 32; ++y)
+    for (uint32_t x = 0; x < 64; ++x) checker.at(x, y) = glm::vec4(glm::vec3(float((x + y) % 2)), 1.0f);
+  app.content = grey;
+  ASSERT_TRUE(app.warmUp());
+  // The largest difference from the checker inside both views' rects (the rest is not shown).
+  const auto checkerAfterGreyAt = [&](int32_t greySize, int32_t checkerSize) {
+    app.content = grey;
+    app.renderSize = greySize;
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(app.frame(), XR_SUCCESS);
+    app.content = checker;
+    app.renderSize = checkerSize;
+    EXPECT_EQ(app.frame(), XR_SUCCESS);
+    EXPECT_NE(fake.lastSubmittedSwapchain, app.swapchain_);  // filtered
+    const test::HostImage shown = app.shown();
+    float worst = 0.0f;
+    for (uint32_t v = 0; v < 2; ++v)
+      for (uint32_t y = 0; y < uint32_t(checkerSize); ++y)
+        for (uint32_t x = 32 * v; x < 32 * v + uint32_t(checkerSize); ++x)
+          for (int c = 0; c < 3; ++c)
+            worst = std::max(worst, std::abs(shown.at(x, y)[c] - checker.at(x, y)[c]));
+    return worst;
+  };
+  EXPECT_GT(checkerAfterGreyAt(32, 24), 0.2f);  // smaller
+  EXPECT_GT(checkerAfterGreyAt(24, 32), 0.2f);  // back up to the first size
+  EXPECT_EQ(app.session_->stats().historyDropped, 0u);
 }
 
 TEST_F(SessionTest, SwapchainsTheAppNeverEnumeratedAreFiltered) {

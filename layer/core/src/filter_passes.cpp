@@ -58,11 +58,16 @@ PassSwitches baseSwitches(const PassContext& c, uint32_t e) {
 Binding historyBinding(const PassContext& c, uint32_t e, uint32_t i) {
   return Binding{c.eyes[e].history[i].view.get(), VK_IMAGE_LAYOUT_GENERAL, true};
 }
-glm::ivec2 historySize(const PassContext& c, uint32_t e) {
-  return {c.eyes[e].size.width, c.eyes[e].size.height};
+glm::ivec2 sizeOf(VkExtent2D x) {
+  return {x.width, x.height};
+}
+// The rect last frame's history holds (this frame's before it has one: a history not read).
+VkExtent2D historyReadSize(const PassContext& c, uint32_t e) {
+  return c.eyes[e].valid ? c.eyes[e].written[c.historyWrite ^ 1u] : c.frame.views[e].color.rect.extent;
 }
 glm::vec2 historyInvExtent(const PassContext& c, uint32_t e) {
-  return {1.0f / static_cast<float>(c.eyes[e].size.width), 1.0f / static_cast<float>(c.eyes[e].size.height)};
+  const VkExtent2D x = c.eyes[e].capacity;
+  return {1.0f / static_cast<float>(x.width), 1.0f / static_cast<float>(x.height)};
 }
 
 // What copy, fxaa and temporal share: read the input, write this frame's history when stereo
@@ -111,8 +116,9 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
   const EyeState& eye = c.eyes[e];
   d.io.src1 = historyBinding(c, e, c.historyWrite ^ 1u);
   d.io.depth0 = c.plan.depths[e];
+  const VkExtent2D historySize = historyReadSize(c, e);  // the app's render size may have changed since
   u.src1Offset = {0, 0};
-  u.src1Size = historySize(c, e);
+  u.src1Size = sizeOf(historySize);
   u.src1InvExtent = historyInvExtent(c, e);
   u.historyValid = eye.valid ? 1 : 0;
   // Round 20: the 8-bit output keeps last frame's codes (storeHeldOutput); a float output is not rounded.
@@ -132,7 +138,7 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
   sampleWeightsW(params.sampleD.data(), count, w.data());
   for (uint32_t i = 0; i < count && eye.valid; ++i) {
     const Pose at = interpolated ? interpolatePose(eye.prevPose, v.pose, params.sampleD[i]) : eye.prevPose;
-    u.reproj[i] = reprojection(v.pose, v.fov, eye.size, at, eye.prevFov, eye.size);
+    u.reproj[i] = reprojection(v.pose, v.fov, v.color.rect.extent, at, eye.prevFov, historySize);
     u.sampleWeights[static_cast<int>(i)] = w[i];
   }
   d.switches.mode = method == TemporalMethod::Taa     ? kModeTaa
@@ -210,11 +216,9 @@ PassDispatch stereoPass(const PassContext& c, uint32_t e) {
   if (c.plan.firstStage) {  // the temporal/FXAA result sits in this frame's history image
     d.io.src0 = historyBinding(c, e, c.historyWrite);
     d.io.src1 = historyBinding(c, o, c.historyWrite);
-    u.src0Offset = {0, 0};
-    u.src0Size = historySize(c, e);
+    u.src0Offset = {0, 0};  // the same rect sizes as the inputs', at the images' top-left corners
     u.src0InvExtent = historyInvExtent(c, e);
     u.src1Offset = {0, 0};
-    u.src1Size = historySize(c, o);
     u.src1InvExtent = historyInvExtent(c, o);
   }
   if (c.plan.poseOk[e] && c.plan.poseOk[o]) {

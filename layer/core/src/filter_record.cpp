@@ -110,8 +110,10 @@ std::vector<VkImageMemoryBarrier> Filter::Impl::transitionIn(VkCommandBuffer cmd
              VK_IMAGE_ASPECT_DEPTH_BIT | (hasStencil(f) ? VK_IMAGE_ASPECT_STENCIL_BIT : 0));
     }
   }
+  std::vector<VkImage> toClear;
   auto addOwned = [&](OwnedImage& img) {
     if (!img.image || img.initialised) return;
+    if (img.clearOnInit) toClear.push_back(img.image.get());
     VkImageMemoryBarrier b{};
     b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
     b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
@@ -139,6 +141,15 @@ std::vector<VkImageMemoryBarrier> Filter::Impl::transitionIn(VkCommandBuffer cmd
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mem, 0,
                        nullptr, static_cast<uint32_t>(pre.size()), pre.data());
+  if (!toClear.empty()) {  // once per new image: the passes' bilinear taps may reach past the rect
+    const VkClearColorValue zero{};
+    const VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    for (VkImage image : toClear) vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &all);
+    mem.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    mem.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1,
+                         &mem, 0, nullptr, 0, nullptr);
+  }
   return post;
 }
 

@@ -38,6 +38,7 @@ struct OwnedImage {
   VkExtent2D extent{};
   VkFormat format = VK_FORMAT_UNDEFINED;
   bool initialised = false;  // transitioned from UNDEFINED to GENERAL
+  bool clearOnInit = false;  // cleared to 0 then: texels outside the rect stay finite for bilinear taps
 };
 
 // A buffer and its memory (the memory freed after the buffer is destroyed).
@@ -75,7 +76,10 @@ struct EyeState {
   bool shownValid = false;    // it did last frame
   Pose prevPose;
   Fov prevFov;
-  VkExtent2D size{};
+  // The internal images' extent. Any rect that fits keeps the history (an app's dynamic resolution): each
+  // history image holds the rect it was last written at, from its top-left corner.
+  VkExtent2D capacity{};
+  std::array<VkExtent2D, 2> written{};  // that rect's size per history image, once its frame was submitted
 };
 
 }  // namespace steadyxr::core::detail

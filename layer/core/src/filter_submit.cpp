@@ -1,5 +1,6 @@
 // Filter::Impl::submit: check the frame, prepare each eye's history, bind the images, record the
 // passes, submit; each step its own function, in that order.
+#include <algorithm>
 #include <array>
 #include <string>
 
@@ -131,25 +132,40 @@ bool Filter::Impl::checkInputs(const StereoFrame& frame, const StereoOutput& out
 
 bool Filter::Impl::prepareEyes(const StereoFrame& frame, FramePlan& plan, std::string* error) {
   const uint32_t n = plan.viewCount;
-  // Internal images follow the rect size and the history format; a change drops the history.
+  // Internal images hold any rect up to their capacity; a rect that outgrows it, or a change of the
+  // history format, reallocates them and drops the history.
   for (uint32_t e = 0; e < n; ++e) {
     EyeState& eye = eyes[e];
-    const VkExtent2D size = frame.views[e].color.rect.extent;
-    const VkFormat histFormat = historyFormat(params, frame.views[e].color.format);
+    const ImageRef& in = frame.views[e].color;
+    const VkExtent2D size = in.rect.extent;
+    const VkFormat histFormat = historyFormat(params, in.format);
     const bool held = detail::outputHeld(params);  // the 8-bit output's codes kept for the next frame
-    if (!eye.history[0].image || !sameExtent(eye.size, size) || eye.history[0].format != histFormat ||
+    const bool fits = size.width <= eye.capacity.width && size.height <= eye.capacity.height;
+    if (!eye.history[0].image || !fits || eye.history[0].format != histFormat ||
         held != static_cast<bool>(eye.shown[0].image)) {
+      // A rect that outgrows the images is an app changing its render size (dynamic resolution): from
+      // then on they take the largest rect the app's image holds at this offset, as FSR2 allocates for its
+      // maximum render size, so that later changes keep the history. The first size is taken as it is.
+      VkExtent2D capacity = fits ? eye.capacity : size;
+      if (eye.history[0].image && !fits) {
+        capacity = {std::max(size.width, in.extent.width - static_cast<uint32_t>(in.rect.offset.x)),
+                    std::max(size.height, in.extent.height - static_cast<uint32_t>(in.rect.offset.y))};
+      }
       waitAll();
-      const VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+      const VkImageUsageFlags usage =
+          VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
       for (auto& h : eye.history) {
-        if (!createImage(h, size, histFormat, usage, error)) return false;
+        if (!createImage(h, capacity, histFormat, usage, error)) return false;
+        h.clearOnInit = true;
       }
       for (auto& sh : eye.shown) {
         sh = OwnedImage{};
-        if (held && !createImage(sh, size, VK_FORMAT_R8G8B8A8_UNORM, usage, error)) return false;
+        if (held && !createImage(sh, capacity, VK_FORMAT_R8G8B8A8_UNORM, usage, error)) return false;
+        sh.clearOnInit = true;
       }
       for (auto& sc : eye.scratch) sc = OwnedImage{};
-      eye.size = size;
+      eye.capacity = capacity;
+      eye.written = {};
       eye.valid = false;
     }
   }
@@ -197,9 +213,9 @@ bool Filter::Impl::bindTargets(const StereoFrame& frame, const StereoOutput& out
       if (!t.view) return false;
     } else if (out.usage & VK_IMAGE_USAGE_TRANSFER_DST_BIT) {
       OwnedImage& sc = eyes[e].scratch[t.fmt];
-      if (!sc.image) {
+      if (!sc.image) {  // as large as the history: any rect that keeps it fits
         const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-        if (!createImage(sc, out.rect.extent, viewFormat, usage, error)) return false;
+        if (!createImage(sc, eyes[e].capacity, viewFormat, usage, error)) return false;
       }
       t.scratch = &sc;
       t.view = sc.view.get();
@@ -330,6 +346,7 @@ void Filter::Impl::advanceEyes(const StereoFrame& frame, const FramePlan& plan) 
     EyeState& eye = eyes[e];
     eye.valid = plan.temporal && plan.poseOk[e];
     eye.shownValid = eye.shownWritten;
+    eye.written[historyIndex] = frame.views[e].color.rect.extent;
     if (plan.poseOk[e]) {
       eye.prevPose = frame.views[e].pose;
       eye.prevFov = frame.views[e].fov;
