@@ -1,5 +1,6 @@
 // steadyxr-eval: the evaluation harness's command line (see suite.h and DESIGN.md "Evaluation").
 #include "eye_rig.h"
+#include "render_size_study.h"
 #include "suite.h"
 
 #include <cstdlib>
@@ -101,6 +102,11 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        (a snap turn at a third of the run and back at two thirds); such cases are
                        never low-speed ones; the display stage's extra frames (display rate above
                        the app's) warp with the rigged poses, as a runtime that knew the rig
+  --render-sizes LIST  dynamic resolution, a study in place of the suite: the app renders frame f at
+                       fraction LIST[f mod n] of the eye size (0.25-1, e.g. 1,0.9,0.8,0.9); every
+                       method (default none,taa,default) at the fixed size, at the changing sizes
+                       keeping its history, and dropping it at each change, against none at the
+                       same sizes (render_sizes.csv)
   --drop-frames P       the app misses each app period after a frame with probability P (0-0.5;
                        at most 3 in a row, drawn from --seed, the same for every case): its next
                        frame is for the period after, so the layer sees a pose step of two
@@ -199,6 +205,15 @@ int main(int argc, char** argv) {
           std::cerr << "steadyxr-eval: --drop-frames takes the share of app frames missed, from 0 to 0.5\n";
           return 2;
         }
+      } else if (a == "--render-sizes") {
+        for (const std::string& f : splitList(next())) {
+          o.renderSizes.push_back(std::stod(f));
+          if (!(o.renderSizes.back() >= 0.25 && o.renderSizes.back() <= 1.0)) {
+            std::cerr << "steadyxr-eval: --render-sizes takes fractions of the eye size from 0.25 to 1\n";
+            return 2;
+          }
+        }
+        if (o.renderSizes.empty()) throw std::invalid_argument("render-sizes");
       } else if (a == "--no-sweeps") {
         o.sweeps = false;
       } else if (a == "--quick") {
@@ -239,6 +254,13 @@ int main(int argc, char** argv) {
     std::cerr << "steadyxr-eval: --ppd " << o.ppd << " at " << o.width
               << " px puts the picture beyond the far plane (fewer ppd or more pixels)\n";
     return 2;
+  }
+  if (!o.renderSizes.empty()) {
+    if (o.ppd > 0.0) {
+      std::cerr << "steadyxr-eval: --render-sizes keeps the eye's fov as it is: leave out --ppd\n";
+      return 2;
+    }
+    return steadyxr::eval::runRenderSizeStudy(o);
   }
   return steadyxr::eval::runSuite(o);
 }

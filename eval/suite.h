@@ -45,6 +45,9 @@ struct Options {
   Locomotion locomotion;
   // > 0: the share of app periods the app misses (frame_clock.h): a missed frame's pose step is two periods.
   double dropFrames = 0.0;
+  // Not empty: the dynamic-resolution study (render_size_study.h) in place of the suite, the app's render
+  // size each frame the next of these fractions of width x height.
+  std::vector<double> renderSizes;
 };
 
 // Returns the process exit code (0 on success).

@@ -175,12 +175,20 @@ bool Filter::Impl::prepareEyes(const StereoFrame& frame, FramePlan& plan, std::s
     noiseTracker.reset();  // a new start: the noise is measured again
     noiseNextFrame = frameCounter;
   }
-  // A history is reprojected only from a finite pose, across a small enough head move.
+  // A history is reprojected only from a finite pose, across a small enough head move. Across a change of
+  // the render size only by steady: its blur guard bounds the blur of resampling the history at another
+  // scale. The seed methods have no such bound, and a size that changes every frame blurs their history
+  // frame after frame (plain taa 1.61x none's RMSE where starting afresh gives 1.00x:
+  // `steadyxr-eval --render-sizes`, README "Dynamic resolution").
+  const bool keptAcrossSizes = params.temporal == TemporalMethod::Steady;
   for (uint32_t e = 0; e < n; ++e) {
     const ViewFrame& v = frame.views[e];
     EyeState& eye = eyes[e];
     plan.poseOk[e] = finitePose(v.pose) && finiteFov(v.fov);
     if (!plan.poseOk[e]) {
+      eye.valid = false;
+    } else if (eye.valid && !keptAcrossSizes &&
+               !sameExtent(eye.written[historyIndex ^ 1u], v.color.rect.extent)) {
       eye.valid = false;
     } else if (eye.valid) {
       const float angle = angleBetweenDeg(eye.prevPose.orientation, v.pose.orientation);
