@@ -57,20 +57,13 @@ struct Totals {
 
 int runRenderSizeStudy(const Options& o) {
   std::string error;
-  const std::vector<Scenario> scenarios = buildScenarios(o, &error);
-  if (scenarios.empty()) {
-    std::cerr << "steadyxr-eval: " << (error.empty() ? "no scenarios" : error) << "\n";
-    return 2;
-  }
+  std::vector<Scenario> scenarios;
   TextureSet textures;
-  if (!gatherTextures(scenarios, o, &textures, &error)) {
+  if (!loadCases(o, &scenarios, &textures, &error)) {
     std::cerr << "steadyxr-eval: " << error << "\n";
     return 2;
   }
-  core::OwnedContextOptions co;
-  co.enableValidation = o.validation;
-  co.applicationName = "steadyxr-eval";
-  auto ctx = core::VulkanContext::createOwned(co, &error);
+  auto ctx = createEvalContext(o, &error);  // first: it outlives every filter and renderer below
   if (!ctx) {
     std::cerr << "steadyxr-eval: no Vulkan context: " << error << "\n";
     return 1;
@@ -135,14 +128,13 @@ int runRenderSizeStudy(const Options& o) {
   int framesDone = 0;
 
   for (const Scenario& sc : scenarios) {
-    std::unique_ptr<imu::MotionStream> stream =
-        sc.trace ? imu::loadTrace(sc.motion, &error) : imu::makePreset(sc.motion, o.seed, &error);
-    if (!stream) {
-      std::cerr << "steadyxr-eval: motion '" << sc.motion << "': " << error << "\n";
+    CaseMotion motion;
+    if (!loadMotion(sc, o, &motion, &error)) {
+      std::cerr << "steadyxr-eval: " << error << "\n";
       return 2;
     }
-    const double start = sc.startSec >= 0.0 ? sc.startSec : o.startSec;
-    const double firstFrameSec = start - sc.leadSec;
+    const std::unique_ptr<imu::MotionStream>& stream = motion.stream;
+    const double firstFrameSec = motion.firstFrameSec;
     const FrameClock clock(o.frames, firstFrameSec, dt, o.dropFrames, o.seed);
     Scene scene;
     if (!makeScene(sc.scene, sc.picture, textures, 1.0, HeadPose{}, &scene, &error)) {

@@ -115,4 +115,26 @@ bool gatherTextures(const std::vector<Scenario>& scenarios, const Options& o, Te
   return true;
 }
 
+bool loadCases(const Options& o, std::vector<Scenario>* scenarios, TextureSet* textures, std::string* error) {
+  *scenarios = buildScenarios(o, error);
+  if (scenarios->empty()) {
+    if (error->empty()) *error = "no scenarios";
+    return false;
+  }
+  // Every texture any scenario needs, uploaded once (index 0 = white); before anything is written.
+  return gatherTextures(*scenarios, o, textures, error);
+}
+
+bool loadMotion(const Scenario& sc, const Options& o, CaseMotion* motion, std::string* error) {
+  std::string why;
+  motion->stream = sc.trace ? imu::loadTrace(sc.motion, &why) : imu::makePreset(sc.motion, o.seed, &why);
+  if (!motion->stream) {
+    *error = "motion '" + sc.motion + "': " + why;
+    return false;
+  }
+  motion->startSec = sc.startSec >= 0.0 ? sc.startSec : o.startSec;
+  motion->firstFrameSec = motion->startSec - sc.leadSec;
+  return true;
+}
+
 }  // namespace steadyxr::eval

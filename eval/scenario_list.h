@@ -6,6 +6,9 @@
 #include "scene.h"
 #include "suite.h"
 
+#include "steadyxr/imu/motion.h"
+
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -18,5 +21,17 @@ std::vector<Scenario> buildScenarios(const Options& o, std::string* error);
 // scenario's picture does not load (loadPicture); the scenes' own extra pictures fall back.
 bool gatherTextures(const std::vector<Scenario>& scenarios, const Options& o, TextureSet* textures,
                     std::string* error);
+
+// A case's head motion, and where its frames start on the stream's clock.
+struct CaseMotion {
+  std::unique_ptr<imu::MotionStream> stream;
+  double startSec = 0.0;       // where the run starts in the stream (the case's, else Options::startSec)
+  double firstFrameSec = 0.0;  // the first frame: the case's lead before that (held at the t = 0 pose)
+};
+// False with the message to print in *error (an unknown preset, a trace that does not load).
+bool loadMotion(const Scenario& sc, const Options& o, CaseMotion* motion, std::string* error);
+
+// Both, as a run starts (the suite, the render-size study): false with the message to print in *error.
+bool loadCases(const Options& o, std::vector<Scenario>* scenarios, TextureSet* textures, std::string* error);
 
 }  // namespace steadyxr::eval

@@ -80,25 +80,24 @@ bool writeFrames(const std::string& dir, int f, const Image& truth, const std::v
 
 }  // namespace
 
+std::unique_ptr<core::VulkanContext> createEvalContext(const Options& o, std::string* error) {
+  core::OwnedContextOptions co;
+  co.enableValidation = o.validation;
+  co.applicationName = "steadyxr-eval";
+  return core::VulkanContext::createOwned(co, error);
+}
+
 int runSuite(const Options& o) {
   const auto wallStart = std::chrono::steady_clock::now();
   std::string error;
-  const std::vector<Scenario> scenarios = buildScenarios(o, &error);
-  if (scenarios.empty()) {
-    std::cerr << "steadyxr-eval: " << (error.empty() ? "no scenarios" : error) << "\n";
-    return 2;
-  }
-  // Every texture any scenario needs, uploaded once (index 0 = white); before anything is written.
+  std::vector<Scenario> scenarios;
   TextureSet textures;
-  if (!gatherTextures(scenarios, o, &textures, &error)) {
+  if (!loadCases(o, &scenarios, &textures, &error)) {
     std::cerr << "steadyxr-eval: " << error << "\n";
     return 2;
   }
   // Created first so that it outlives every filter and renderer below.
-  core::OwnedContextOptions co;
-  co.enableValidation = o.validation;
-  co.applicationName = "steadyxr-eval";
-  auto ctx = core::VulkanContext::createOwned(co, &error);
+  auto ctx = createEvalContext(o, &error);
   if (!ctx) {
     std::cerr << "steadyxr-eval: no Vulkan context: " << error << "\n";
     return 1;
@@ -196,14 +195,13 @@ int runSuite(const Options& o) {
   animationWindow.y0 = o.height / 2 - animationWindow.height / 2;
 
   for (const Scenario& sc : scenarios) {
-    std::unique_ptr<imu::MotionStream> stream =
-        sc.trace ? imu::loadTrace(sc.motion, &error) : imu::makePreset(sc.motion, o.seed, &error);
-    if (!stream) {
-      std::cerr << "steadyxr-eval: motion '" << sc.motion << "': " << error << "\n";
+    CaseMotion motion;
+    if (!loadMotion(sc, o, &motion, &error)) {
+      std::cerr << "steadyxr-eval: " << error << "\n";
       return 2;
     }
-    const double start = sc.startSec >= 0.0 ? sc.startSec : o.startSec;
-    const double firstFrameSec = start - sc.leadSec;  // on the motion stream's clock
+    const std::unique_ptr<imu::MotionStream>& stream = motion.stream;
+    const double start = motion.startSec, firstFrameSec = motion.firstFrameSec;  // on the stream's clock
     const FrameClock clock(o.frames, firstFrameSec, dt, o.dropFrames, o.seed);
     Scene scene;
     // --ppd stretches a scene in metres about the first frame's head (scene.h, makeScene).

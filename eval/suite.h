@@ -5,7 +5,10 @@
 #include "locomotion.h"
 #include "scene.h"
 
+#include "steadyxr/core/vulkan_context.h"
+
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -52,5 +55,8 @@ struct Options {
 
 // Returns the process exit code (0 on success).
 int runSuite(const Options& options);
+
+// The harness's own Vulkan context (validation with --validation); null with *error set.
+std::unique_ptr<core::VulkanContext> createEvalContext(const Options& o, std::string* error);
 
 }  // namespace steadyxr::eval

@@ -19,15 +19,6 @@ using namespace steadyxr::test;
 
 namespace {
 
-// Steady as the references check it: the box alone (the host's noise estimate and the frame's gain are
-// checked in their own suites).
-Params steadyBoxAlone() {
-  Params p = *applyMethodName("steady");
-  p.steadyNoiseEstimate = false;
-  p.steadyGainCompensation = false;
-  return p;
-}
-
 struct Size {
   uint32_t w, h;
 };
@@ -145,13 +136,6 @@ HostImage renderChecker(const RefView& view, uint32_t w, uint32_t h, int sub) {
       img.at(x, y) = glm::vec4(c, c, c, 1.0f);
     }
   return img;
-}
-
-double rmse(const HostImage& a, const HostImage& b) {
-  double s = 0.0;
-  for (size_t i = 0; i < a.px.size(); ++i)
-    for (int k = 0; k < 3; ++k) s += double(a.px[i][k] - b.px[i][k]) * double(a.px[i][k] - b.px[i][k]);
-  return std::sqrt(s / (3.0 * double(a.px.size())));
 }
 
 // Sub-pixel tremor (uniform, +-0.4 px at the centre of the 48-px view) over the aliased checkerboard at

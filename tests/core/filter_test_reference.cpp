@@ -218,15 +218,6 @@ int pixelsOff(const HostImage& a, const HostImage& b, float tolerance) {
   return n;
 }
 
-float rmse(const HostImage& a, const HostImage& b) {
-  double sum = 0.0;
-  for (size_t i = 0; i < a.px.size(); ++i) {
-    const glm::vec3 d = glm::vec3(a.px[i]) - glm::vec3(b.px[i]);
-    sum += glm::dot(d, d);
-  }
-  return float(std::sqrt(sum / (3.0 * double(a.px.size()))));
-}
-
 // A straight step edge through the image centre at `slopeDeg` from horizontal (dark below-left,
 // bright above-right), sampled at pixel centres (one sample per pixel, as a rasteriser without
 // MSAA draws it) or as the 16x16 box average of each pixel (the ground truth).

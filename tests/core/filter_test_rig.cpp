@@ -116,6 +116,20 @@ Diff compare(const HostImage& a, const HostImage& b) {
   return d;
 }
 
+double rmse(const HostImage& a, const HostImage& b) {
+  double s = 0.0;
+  for (size_t i = 0; i < a.px.size(); ++i)
+    for (int k = 0; k < 3; ++k) s += double(a.px[i][k] - b.px[i][k]) * double(a.px[i][k] - b.px[i][k]);
+  return std::sqrt(s / (3.0 * double(a.px.size())));
+}
+
+Params steadyBoxAlone() {
+  Params p = *core::applyMethodName("steady");
+  p.steadyNoiseEstimate = false;
+  p.steadyGainCompensation = false;
+  return p;
+}
+
 RefView eye(float yawDeg, float pitchDeg, glm::vec3 pos) {
   RefView v;
   v.pose.orientation =

@@ -78,6 +78,11 @@ struct Diff {
   float meanAbs = 0.0f;
 };
 Diff compare(const HostImage& a, const HostImage& b);  // over RGB
+double rmse(const HostImage& a, const HostImage& b);   // over RGB
+
+// Steady's box alone: round 15's noise estimate would widen it by the render's noise, and round 16's gain
+// would undo a fade before the box sees it (each checked in its own suite).
+core::Params steadyBoxAlone();
 
 RefView eye(float yawDeg, float pitchDeg, glm::vec3 pos = glm::vec3(0));
 

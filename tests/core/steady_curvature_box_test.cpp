@@ -109,13 +109,6 @@ HostImage renderChecker(const RefView& view, uint32_t W, uint32_t H, int sub) {
   return img;
 }
 
-double rmse(const HostImage& a, const HostImage& b) {
-  double s = 0.0;
-  for (size_t i = 0; i < a.px.size(); ++i)
-    for (int k = 0; k < 3; ++k) s += double(a.px[i][k] - b.px[i][k]) * double(a.px[i][k] - b.px[i][k]);
-  return std::sqrt(s / (3.0 * double(a.px.size())));
-}
-
 // Sub-pixel yaw/pitch tremor (uniform, +-0.4 px at the centre) over a static aliased checkerboard:
 // RMSE against the pixel-area average over the last 16 of 40 frames, for `method` with the box
 // on or off ("none": the render itself).

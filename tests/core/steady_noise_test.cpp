@@ -85,13 +85,6 @@ double referenceNoiseVariance(const HostImage& img, uint32_t blockPx = 4) {
   return sigma * sigma * 8.0 / 3.0;
 }
 
-double rmse(const HostImage& a, const HostImage& b) {
-  double s = 0.0;
-  for (size_t i = 0; i < a.px.size(); ++i)
-    for (int k = 0; k < 3; ++k) s += double(a.px[i][k] - b.px[i][k]) * double(a.px[i][k] - b.px[i][k]);
-  return std::sqrt(s / (3.0 * double(a.px.size())));
-}
-
 }  // namespace
 
 TEST_F(CoreTest, SteadyEstimatesARendersNoiseFromItsFrames) {

@@ -18,15 +18,6 @@ using namespace steadyxr::test;
 
 namespace {
 
-// The default's box alone: round 15's noise estimate would widen it by the render's noise, and round 16's
-// gain would undo the fades below before the box sees them.
-Params steadyBoxAlone() {
-  Params p = *applyMethodName("steady");
-  p.steadyNoiseEstimate = false;
-  p.steadyGainCompensation = false;
-  return p;
-}
-
 // Linear light of 8-bit sRGB code `code`.
 double codeToLinear(int code) {
   return srgbDecode(code / 255.0);
