@@ -386,7 +386,10 @@ void processPixel(ivec2 p, ivec2 o) {
     n *= asWasT2 > 1.0 ? mix(1.0, 1.0 / asWasT2, P.steadyClipRejects) : 1.0;
     float a = max(1.0 / (n + 1.0), P.steadyAlphaFloor);
     vec2 f = fract(q - 0.5);                // bilinear tap offset within the texel
-    vec2 axisBlur = f * (1.0 - f);          // the tap's blur variance per axis, px^2
+    // The tap's blur variance per axis in this frame's px^2: a history texel spans src0Size / src1Size of
+    // them (an app's dynamic resolution, round 37; exactly 1 at a fixed size).
+    const vec2 span = P.src1Size == P.src0Size ? vec2(1.0) : vec2(P.src0Size) / vec2(P.src1Size);
+    vec2 axisBlur = f * (1.0 - f) * (span * span);
     // The added blur variance over the budget (the box's x + y variance): per axis, the blurrier
     // axis counted for both (Params::steadyHistoryBlurPerAxis); else summed over the axes.
     float v = P.steadyHistoryBlurPerAxis > 0.5 ? 2.0 * max(axisBlur.x, axisBlur.y) : axisBlur.x + axisBlur.y;

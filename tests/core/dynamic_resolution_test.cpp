@@ -88,9 +88,11 @@ TEST_P(DynamicResolutionReference, HistoryFollowsTheRenderSize) {
                  : temporalRef(TemporalMethod::Taa, p, cur, hist[e], kept, prev[e], fr.views[e], 0.0f));
       ASSERT_EQ(out[e].width, s.w);
       const Diff d = compare(out[e], want);
-      // Tolerances as the same-size references' (filter_test_reference.cpp).
-      EXPECT_LE(d.meanAbs, 2e-3f) << variant << " frame " << k << " eye " << e;
-      EXPECT_LE(d.maxAbs, 0.05f) << variant << " frame " << k << " eye " << e;
+      // On lavapipe every variant matches to 2.5e-4 on average and 1.5e-3 at most (half floats). The blur
+      // guard's span left out (the tap's blur in the history's pixels, not this frame's) put 2.7e-3 on
+      // average (round 37, planted); a history read at this frame's size 0.03-0.05.
+      EXPECT_LE(d.meanAbs, 5e-4f) << variant << " frame " << k << " eye " << e;
+      EXPECT_LE(d.maxAbs, 5e-3f) << variant << " frame " << k << " eye " << e;
       if (kept) {  // what the method gives without a history (steady: its footprint filter; taa: the input)
         const HostImage fresh =
             toHalf(steady ? steadyRef(p, cur, hist[e], false, prev[e], fr.views[e]) : cur);

@@ -202,7 +202,10 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
           // axis: each axis's blur against its half, the worse one decides.
           const vec2 texel = q - 0.5f;
           const vec2 f = texel - glm::floor(texel);
-          const float vx = f.x * (1.0f - f.x), vy = f.y * (1.0f - f.y);
+          // In this frame's pixels: a history texel of another render size spans size / histSize of them
+          // per axis, and a variance scales with the square of the length.
+          const vec2 span = vec2(size) / vec2(histSize);
+          const float vx = f.x * (1.0f - f.x) * span.x * span.x, vy = f.y * (1.0f - f.y) * span.y * span.y;
           const float v = p.steadyHistoryBlurPerAxis ? 2.0f * std::max(vx, vy) : vx + vy;
           float guard = v / (v + p.steadyBlurBudgetPx2);
           if (p.steadyBlurNoiseTrade && p.steadyHistoryBlurPerAxis && noiseVar.x > 0.0f) {
