@@ -103,6 +103,12 @@ TEST_P(DynamicResolutionReference, HistoryFollowsTheRenderSize) {
       prev[e] = fr.views[e];
     }
   }
+  // The filter's own account of it, which the layer's session summary prints: five changes of size
+  // (frames 1, 2, 4, 5, 6), steady's history reprojected across the four after the reallocation.
+  const RenderSizeCounters counted = f->renderSizeCounters();
+  EXPECT_EQ(counted.framesResized, 5u) << variant;
+  EXPECT_EQ(counted.historyKeptResized, steady ? 4u : 0u) << variant;
+  EXPECT_EQ(counted.imagesReallocated, 1u) << variant;
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, DynamicResolutionReference,

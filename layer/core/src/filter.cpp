@@ -63,6 +63,10 @@ std::optional<GainProbeSums> Filter::lastGainProbe() const {
   return impl_->gainProbe;
 }
 
+RenderSizeCounters Filter::renderSizeCounters() const {
+  return impl_->sizeCounters;
+}
+
 std::vector<PipelineDescription> Filter::pipelines() const {
   return impl_->pipelines.made();
 }

@@ -41,6 +41,7 @@ struct Filter::Impl {
   detail::OwnedImage dummy8;   // 1x1 RGBA8: unused output writes
   std::map<ViewKey, Unique<VkImageView>> views;
   uint64_t frameCounter = 0;
+  RenderSizeCounters sizeCounters;
   std::optional<PassTimings> timings;
   std::optional<GainProbeSums> gainProbe;  // the newest finished frame's, with samples
   // The render's noise variance per linear RGB channel from the finished frames that sampled it

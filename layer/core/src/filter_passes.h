@@ -87,6 +87,7 @@ struct FramePlan {
   bool firstStage = false;  // copy, fxaa or temporal runs (`none` + stereo reads the inputs directly)
   std::array<bool, 2> hasDepth{false, false};
   std::array<bool, 2> poseOk{false, false};
+  bool imagesReallocated = false;  // prepareEyes made an eye's internal images anew (not the first time)
   std::array<Target, 2> targets{};
   std::array<Binding, 2> inputs{}, depths{};
 };

@@ -80,6 +80,7 @@ struct EyeState {
   // history image holds the rect it was last written at, from its top-left corner.
   VkExtent2D capacity{};
   std::array<VkExtent2D, 2> written{};  // that rect's size per history image, once its frame was submitted
+  VkExtent2D lastSize{};  // the rect's size in the last frame filtered (kept across reallocation)
 };
 
 }  // namespace steadyxr::core::detail

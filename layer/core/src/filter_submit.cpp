@@ -151,6 +151,7 @@ bool Filter::Impl::prepareEyes(const StereoFrame& frame, FramePlan& plan, std::s
         capacity = {std::max(size.width, in.extent.width - static_cast<uint32_t>(in.rect.offset.x)),
                     std::max(size.height, in.extent.height - static_cast<uint32_t>(in.rect.offset.y))};
       }
+      plan.imagesReallocated = plan.imagesReallocated || eye.history[0].image;
       waitAll();
       const VkImageUsageFlags usage =
           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
@@ -350,8 +351,15 @@ bool Filter::Impl::submitRecording(Slot& s, VkSemaphore signal, std::string* err
 }
 
 void Filter::Impl::advanceEyes(const StereoFrame& frame, const FramePlan& plan) {
+  bool resized = false, keptResized = false;
   for (uint32_t e = 0; e < plan.viewCount; ++e) {
     EyeState& eye = eyes[e];
+    const VkExtent2D size = frame.views[e].color.rect.extent;
+    resized = resized || (eye.lastSize.width != 0 && !sameExtent(eye.lastSize, size));
+    // This frame read the history (valid before this update) written at another size.
+    keptResized =
+        keptResized || (plan.temporal && eye.valid && !sameExtent(eye.written[historyIndex ^ 1u], size));
+    eye.lastSize = size;
     eye.valid = plan.temporal && plan.poseOk[e];
     eye.shownValid = eye.shownWritten;
     eye.written[historyIndex] = frame.views[e].color.rect.extent;
@@ -361,6 +369,9 @@ void Filter::Impl::advanceEyes(const StereoFrame& frame, const FramePlan& plan) 
     }
   }
   historyIndex ^= 1u;
+  sizeCounters.framesResized += resized;
+  sizeCounters.historyKeptResized += keptResized;
+  sizeCounters.imagesReallocated += plan.imagesReallocated;
 }
 
 VkFormat historyFormat(const Params& params, VkFormat inputFormat) {

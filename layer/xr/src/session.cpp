@@ -95,7 +95,10 @@ std::string SessionStats::summary() const {
   os << "session summary: frames_filtered=" << framesFiltered << " left=" << viewsFiltered[0]
      << " right=" << viewsFiltered[1] << " frames_passed_through=" << passedTotal
      << " frames_warming_up=" << warmingUp << " frames_empty=" << framesEmpty
-     << " frames_disabled=" << framesDisabled << " history_dropped=" << historyDropped;
+     << " frames_disabled=" << framesDisabled << " history_dropped=" << historyDropped
+     << " render_size_changes=" << renderSize.framesResized
+     << " history_kept_resized=" << renderSize.historyKeptResized
+     << " images_reallocated=" << renderSize.imagesReallocated;
   if (passedTotal > 0) {
     os << " (";
     bool first = true;

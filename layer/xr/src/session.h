@@ -124,6 +124,7 @@ struct SessionStats {
   uint64_t jitterUndone = 0;       // filtered views submitted with the jitter undone
   uint64_t jitterUnmatched = 0;    // filtered views whose fov was not one the layer jittered
   uint64_t historyDropped = 0;     // filtered frames that started without the history (HistoryContinuity)
+  core::RenderSizeCounters renderSize;  // the app's changes of render size (dynamic resolution)
   std::string summary() const;
 };
 

@@ -116,6 +116,7 @@ XrResult Session::endFrame(const XrFrameEndInfo* info) {
         std::lock_guard lock(mutex_);
         continuity_.filtered(work.input.displayTimeNs, poseSpace);
         if (work.input.reset) ++stats_.historyDropped;
+        stats_.renderSize = filter_->renderSizeCounters();
       }
     }
     releaseOutputs(work);

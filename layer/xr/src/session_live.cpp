@@ -96,6 +96,9 @@ std::string Session::statusText() const {
   os << "frames_warming_up=" << warmingUp << "\n";
   os << "frames_disabled=" << stats_.framesDisabled << "\n";
   os << "frames_empty=" << stats_.framesEmpty << "\n";
+  os << "render_size_changes=" << stats_.renderSize.framesResized << "\n";
+  os << "history_kept_resized=" << stats_.renderSize.historyKeptResized << "\n";
+  os << "images_reallocated=" << stats_.renderSize.imagesReallocated << "\n";
   if (stats_.timingFrames > 0) {
     const double n = static_cast<double>(stats_.timingFrames);
     char buf[200];

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -54,6 +55,10 @@ long counter(const std::string& summary, const std::string& key) {
 struct PngPair {
   std::string in, out;
 };
+bool isInputDump(const std::string& p) {
+  return p.size() >= 7 && p.compare(p.size() - 7, 7, "_in.png") == 0;
+}
+
 // Dumped pairs not seen before (each session dumps its own files, see dump.h).
 std::vector<PngPair> newDumps(const std::string& dir, std::set<std::string>* seen) {
   std::vector<PngPair> pairs;
@@ -61,11 +66,22 @@ std::vector<PngPair> newDumps(const std::string& dir, std::set<std::string>* see
   if (dir.empty() || !fs::is_directory(dir, ec)) return pairs;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string p = e.path().string();
-    if (p.size() < 7 || p.compare(p.size() - 7, 7, "_in.png") != 0 || seen->count(p)) continue;
+    if (!isInputDump(p) || seen->count(p)) continue;
     seen->insert(p);
     pairs.push_back({p, p.substr(0, p.size() - 7) + "_out.png"});
   }
   return pairs;
+}
+
+// How many input images the layer has dumped into the folder so far.
+size_t dumpCount(const std::string& dir) {
+  size_t n = 0;
+  std::error_code ec;
+  if (dir.empty() || !fs::is_directory(dir, ec)) return 0;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    n += isInputDump(e.path().string());
+  }
+  return n;
 }
 
 // Compares dumped input and output: alpha must match exactly, and with `rgbToo` all channels.
@@ -122,7 +138,11 @@ int run(const Options& o) {
   int failures = 0;
   for (const std::string& name : o.cases) {
     const CaseSpec spec = caseSpec(name);
-    CaseResult r = xr.runCase(spec, o.frames);
+    // The layer dumps the first frames it filters as it ends them: a new dump means it filters.
+    const size_t dumpsBefore = dumpCount(dumpDir);
+    std::function<bool()> layerFiltering;
+    if (o.layer) layerFiltering = [&] { return dumpCount(dumpDir) > dumpsBefore; };
+    CaseResult r = xr.runCase(spec, o.frames, layerFiltering);
     std::string detail = r.detail;
     bool ok = r.ok;
     if (ok && o.layer && spec.kind != CaseKind::Invalid) {
@@ -150,6 +170,21 @@ int run(const Options& o) {
           ok = ok && filteringBefore && dropped >= 1 && dropped <= 3;
           detail += " history_dropped=" + std::to_string(dropped) +
                     (filteringBefore ? "" : " (still warming up at the loading screen: more --frames)");
+        }
+        if (spec.dynamicResolution) {
+          // The first filtered frame is 0.8 of the image, the next the whole image: the filter's images
+          // are reallocated once, and never again as the size goes on changing. Only a temporal method
+          // keeps a history (method none: 0); the default keeps it across each change after that, but
+          // where the history was dropped (a stall of the machine, as in the loading case).
+          const long changes = counter(summary, "render_size_changes");
+          const long kept = counter(summary, "history_kept_resized");
+          const long reallocated = counter(summary, "images_reallocated");
+          const long dropped = counter(summary, "history_dropped");
+          const bool keptRight = o.bitExact ? kept == 0 : kept >= changes - 1 - dropped;
+          ok = ok && reallocated == 1 && changes >= 3 && keptRight;
+          detail += " render_size_changes=" + std::to_string(changes) +
+                    " history_kept_resized=" + std::to_string(kept) +
+                    " images_reallocated=" + std::to_string(reallocated);
         }
       } else {
         ok = filtered == 0 && passed > 0 && summary.find(spec.expectReason) != std::string::npos;

@@ -35,6 +35,7 @@ CaseSpec caseSpec(const std::string& name) {
   }
   if (name == "resize") s.resize = true;
   if (name == "loading") s.loading = true;
+  if (name == "dynres") s.dynamicResolution = true;
   if (name == "invalid") {  // a side-by-side swapchain, then the invalid calls
     s.kind = CaseKind::Invalid;
     s.format = VK_FORMAT_R8G8B8A8_UNORM;
@@ -280,7 +281,7 @@ bool Xr::createSwapchain(XrSession s, VkFormat format, uint32_t w, uint32_t h, u
   return true;
 }
 
-CaseResult Xr::runCase(const CaseSpec& spec, int frames) {
+CaseResult Xr::runCase(const CaseSpec& spec, int frames, const std::function<bool()>& layerFiltering) {
   CaseResult res;
   auto binding = xrStruct<XrGraphicsBindingVulkanKHR>(XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR);
   binding.instance = vkInstance_;
@@ -375,6 +376,7 @@ CaseResult Xr::runCase(const CaseSpec& spec, int frames) {
   }
 
   int submitted = 0;
+  int sizeChangesFrom = -1;  // dynamic resolution: the first frame of the changing sizes
   for (int f = 0; f < frames; ++f) {
     if (spec.resize && f == frames / 2) {
       w = 72;
@@ -405,6 +407,16 @@ CaseResult Xr::runCase(const CaseSpec& spec, int frames) {
     for (auto& s : depth)
       if (!render(s, s.width, s.height, s.layers, f, false)) return finish(false, " depth render failed");
     if (quad.handle && !render(quad, 64, 64, 1, f, false)) return finish(false, " quad render failed");
+    // Dynamic resolution: the app renders into less of the same image (the probe draws the whole image;
+    // the rect picks its top-left part). 0.8 of it until the layer filters, then a new size every
+    // frame: the filter's first size, one larger (its images reallocated), smaller ones (kept).
+    static constexpr float kRenderScale[] = {1.0f, 0.9f, 0.8f, 0.9f};
+    if (spec.dynamicResolution && sizeChangesFrom < 0 && (!layerFiltering || layerFiltering()))
+      sizeChangesFrom = f;
+    const float scale = !spec.dynamicResolution ? 1.0f
+                        : sizeChangesFrom < 0   ? 0.8f
+                                                : kRenderScale[(f - sizeChangesFrom) % 4];
+    const int32_t rw = int32_t(std::lround(float(w) * scale)), rh = int32_t(std::lround(float(h) * scale));
     std::array<XrCompositionLayerProjectionView, 2> views{};
     std::array<XrCompositionLayerDepthInfoKHR, 2> depthInfo{};
     for (uint32_t v = 0; v < 2; ++v) {
@@ -413,8 +425,7 @@ CaseResult Xr::runCase(const CaseSpec& spec, int frames) {
       views[v].fov = xv[v].fov;
       const Swapchain& s = color[spec.kind == CaseKind::PerEye ? v : 0];
       views[v].subImage.swapchain = s.handle;
-      views[v].subImage.imageRect = {{spec.kind == CaseKind::SideBySide ? int32_t(v * w) : 0, 0},
-                                     {int32_t(w), int32_t(h)}};
+      views[v].subImage.imageRect = {{spec.kind == CaseKind::SideBySide ? int32_t(v * w) : 0, 0}, {rw, rh}};
       views[v].subImage.imageArrayIndex = spec.kind == CaseKind::Array ? v : 0;
       if (spec.depth) {
         depthInfo[v] = xrStruct<XrCompositionLayerDepthInfoKHR>(XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR);

@@ -6,6 +6,7 @@
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,9 +20,10 @@ struct CaseSpec {
   VkFormat format = VK_FORMAT_R8G8B8A8_SRGB;
   XrCompositionLayerFlags flags = 0;
   bool depth = false;
-  bool multi = false;    // a second projection layer and a quad after the first
-  bool resize = false;   // new swapchains of another size half-way
-  bool loading = false;  // frames without layers three quarters in (a loading screen)
+  bool multi = false;              // a second projection layer and a quad after the first
+  bool resize = false;             // new swapchains of another size half-way
+  bool loading = false;            // frames without layers three quarters in (a loading screen)
+  bool dynamicResolution = false;  // the rect's size changes every frame (see runCase)
   bool translucent = false;
   bool expectFiltered = true;
   bool dumpable = true;      // 8-bit: the layer dumps it
@@ -43,7 +45,10 @@ class Xr {
  public:
   ~Xr();
   bool init(Api api);
-  CaseResult runCase(const CaseSpec& spec, int frames);
+  // layerFiltering (optional): whether the layer has filtered a frame of this case yet (the
+  // dynamic-resolution case starts changing its size then, so that the filter sees a first size,
+  // a larger one and a smaller one, however many frames its pipelines take to compile).
+  CaseResult runCase(const CaseSpec& spec, int frames, const std::function<bool()>& layerFiltering = {});
 
   std::string error;
   std::string deviceName;

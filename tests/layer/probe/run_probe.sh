@@ -6,7 +6,8 @@
 #   run_probe.sh LAYER_SO PROBE OUT_DIR
 #
 # Runs: v2 with method none (every case; dumped output == input in RGBA), v2 with the default
-# method (alpha carried through the temporal and stereo passes), v2 with method none through a loading
+# method (alpha carried through the temporal and stereo passes; dynres: a render size that changes
+# every frame, the history kept across it), v2 with method none through a loading
 # screen (the history dropped after frames without layers), the invalid xrEndFrame calls
 # with and without steadyxr (same results required), and v1 (XR_KHR_vulkan_enable).
 # Exit: 0 pass, 1 fail, 77 skipped (no trixie root could be built).
@@ -91,10 +92,10 @@ run() {
   fi
 }
 
-cases=(per_eye array sbs alpha unpremultiplied depth multi unorm fp16 resize)
+cases=(per_eye array sbs alpha unpremultiplied depth multi unorm fp16 resize dynres)
 run v2_none steadyxr none --bit-exact "${cases[@]}"
 # The default method's pipelines take longer to compile on lavapipe: more frames.
-run v2_default steadyxr default --frames 40 alpha sbs depth
+run v2_default steadyxr default --frames 40 alpha sbs depth dynres
 # A loading screen (frames without layers): the frame after it starts without the history. Method
 # none, whose one small pipeline is ready by the second frame even on a loaded machine, so that the
 # layer filters before the loading screen (the history's effect on pixels: SessionTest.HistoryIs*).

@@ -78,6 +78,8 @@ class Filter {
   std::optional<float> estimatedNoiseVariance() const;
   // The gain probe's sums of the newest finished frame that had samples (a history), if any.
   std::optional<GainProbeSums> lastGainProbe() const;
+  // The filtered frames' changes of render size, and what became of the history across them.
+  RenderSizeCounters renderSizeCounters() const;
 
   // The pipelines made so far, in no particular order (steadyxr-bench --pipelines prints them for
   // steadyxr-shader-stats).

@@ -97,6 +97,15 @@ struct PassTimings {
 // from its four 2x2 quads) in this frame and in the history, where the history has one.
 // The frame's gain, whether it explains the change (round 17) and whether the pose explains the frame
 // (round 31) are decided from these on the GPU (temporal.comp).
+// How the filter met an app's changes of render size (dynamic resolution), counted over the frames it
+// filtered since it was made.
+struct RenderSizeCounters {
+  uint64_t framesResized = 0;       // a view's rect size differs from its size in the frame before
+  uint64_t historyKeptResized = 0;  // a temporal method reprojected a history written at another size
+  uint64_t imagesReallocated =
+      0;  // the internal images made anew (a rect that outgrew them): history dropped
+};
+
 struct GainProbeSums {
   uint32_t samples = 0;
   double currentMeanLuma = 0.0;
