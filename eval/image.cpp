@@ -70,6 +70,15 @@ bool sampleBilinear(const Image& image, float fx, float fy, float out[3]) {
   return true;
 }
 
+Image resampled(const Image& image, int w, int h) {
+  Image out(w, h);
+  const float sx = float(image.width) / float(w), sy = float(image.height) / float(h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      sampleBilinear(image, (float(x) + 0.5f) * sx, (float(y) + 0.5f) * sy, out.at(x, y));
+  return out;
+}
+
 Image cropMagnify(const Image& image, int x0, int y0, int w, int h, int scale) {
   Image out(w * scale, h * scale);
   for (int y = 0; y < out.height; ++y) {

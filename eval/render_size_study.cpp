@@ -9,6 +9,7 @@
 #include "metrics.h"
 #include "progress.h"
 #include "renderer.h"
+#include "results.h"
 #include "scenario_list.h"
 #include "scene.h"
 #include "variants.h"
@@ -38,20 +39,31 @@ const char* nameOf(Mode m) {
   return m == Mode::Fixed ? "fixed" : m == Mode::Kept ? "changing" : "changing-dropped";
 }
 
-// One method run one way: its filter (its own history) and this case's per-frame RMSE.
+// One method run one way: its filter (its own history), this case's per-frame RMSE and temporal error
+// (from the second frame), and last frame's output and truth per eye as shown (at the full size).
 struct Run {
   std::string method;
   Mode mode;
   std::unique_ptr<core::Filter> filter;
-  std::vector<double> rmse;
+  std::vector<double> rmse, temporalError;
+  std::array<Image, 2> previousOut, previousTruth;
 };
 
-// What a mode's figures are summed into over the cases.
+// What a mode's figures are summed into over the cases; shimmer over the low-head-speed cases only,
+// as the suite's shimmer target.
 struct Totals {
   double ratioSum = 0.0;
   int cases = 0, casesAboveNone = 0, framesAbove110 = 0;
   double worstFrame = 0.0;
+  double shimmerRatioSum = 0.0;
+  int lowSpeedCases = 0, shimmerAboveNone = 0;
 };
+
+double average(const std::vector<double>& v) {
+  double sum = 0.0;
+  for (double x : v) sum += x;
+  return v.empty() ? 0.0 : sum / double(v.size());
+}
 
 }  // namespace
 
@@ -111,7 +123,7 @@ int runRenderSizeStudy(const Options& o) {
             << "'\n";
         return 2;
       }
-      Run r{m, mode, core::Filter::create(*ctx, v.params, &error), {}};
+      Run r{m, mode, core::Filter::create(*ctx, v.params, &error), {}, {}, {}, {}};
       if (!r.filter) {
         std::cerr << "steadyxr-eval: filter '" << m << "': " << error << "\n";
         return 1;
@@ -121,7 +133,8 @@ int runRenderSizeStudy(const Options& o) {
   }
   std::filesystem::create_directories(o.outDir);
   std::ofstream csv(o.outDir + "/render_sizes.csv");
-  csv << "scenario,method,mode,rmse,rmse_vs_none,worst_frame_vs_none,frames_above_1_10\n";
+  csv << "scenario,method,mode,rmse,rmse_vs_none,worst_frame_vs_none,frames_above_1_10,temporal_error,"
+         "temporal_error_vs_none,low_speed\n";
   std::vector<Totals> totals(runs.size());
   const double dt = 1.0 / o.appHz;
   Progress progress(o.progress, int(scenarios.size()) * o.frames);
@@ -154,12 +167,16 @@ int runRenderSizeStudy(const Options& o) {
     for (Run& r : runs) {
       r.filter->reset();
       r.rmse.clear();
+      r.temporalError.clear();
+      r.previousOut = r.previousTruth = {};
     }
+    std::vector<double> headSpeeds;
     for (int f = 0; f < o.frames; ++f) {
       const double t = clock.timeOf(f);
       const HeadPose tracked = trackedAt(t);
       const HeadPose head = rigPose(o.locomotion, rig, tracked, t - firstFrameSec);
       const float headSpeed = float(stream->headSpeedDegPerSec(std::max(0.0, t)));
+      headSpeeds.push_back(headSpeed);
       const int changing = sizeOfFrame[size_t(f) % sizeOfFrame.size()];
       const int changedFrom = f > 0 ? sizeOfFrame[size_t(f - 1) % sizeOfFrame.size()] : changing;
       // The app's frame and the truth at each size this frame uses: the full size, the changing one.
@@ -206,20 +223,32 @@ int runRenderSizeStudy(const Options& o) {
           std::cerr << "steadyxr-eval: filter '" << r.method << "' submit failed: " << error << "\n";
           return 1;
         }
-        double sum = 0.0;
+        double sum = 0.0, change = 0.0;
         for (int eye = 0; eye < 2; ++eye) {
           Image out;
           if (!renderer.readOutput(eye, &out, &error)) {
             std::cerr << "steadyxr-eval: readback: " << error << "\n";
             return 1;
           }
-          sum += rmse(out, truth[size_t(s)][eye]) / 2.0;
+          const Image& gt = truth[size_t(s)][eye];
+          sum += rmse(out, gt) / 2.0;
+          // The suite's temporal error (the output's change against the truth's) on the display's grid:
+          // each frame's output and truth upscaled to the full size, as the compositor shows the rect (the
+          // identity at the full size, where it is the suite's figure to the bit).
+          Image shown = resampled(out, o.width, o.height), shownTruth = resampled(gt, o.width, o.height);
+          if (!r.previousOut[eye].empty())
+            change += 255.0 *
+                      temporalErrorVsTruth(r.previousOut[eye], shown, r.previousTruth[eye], shownTruth) / 2.0;
+          r.previousOut[eye] = std::move(shown);
+          r.previousTruth[eye] = std::move(shownTruth);
         }
         r.rmse.push_back(sum);
+        if (f > 0) r.temporalError.push_back(change);
       }
       progress.update(++framesDone, sc.label);
     }
     // Each run against none's at the same sizes (the fixed ones against none's fixed), frame by frame.
+    const bool lowSpeed = percentile(headSpeeds, 0.95) < kLowSpeedDegPerSec && !rigMoves(o.locomotion);
     for (size_t i = 0; i < runs.size(); ++i) {
       const Run& r = runs[i];
       const Mode noneMode = r.mode == Mode::Fixed ? Mode::Fixed : Mode::Kept;
@@ -235,9 +264,16 @@ int runRenderSizeStudy(const Options& o) {
       for (size_t f = 0; f < r.rmse.size(); ++f)
         above += r.rmse[f] > 1.10 * std::max(none->rmse[f], kEightBitRmseFloor);
       const double ratio = mean / std::max(noneMean, kEightBitRmseFloor);
+      const double shimmer = average(r.temporalError);
+      const double shimmerRatio = shimmer / std::max(average(none->temporalError), 1e-9);
       csv << sc.label << ',' << r.method << ',' << nameOf(r.mode) << ',' << mean << ',' << ratio << ','
-          << g.worstRatio << ',' << above << '\n';
+          << g.worstRatio << ',' << above << ',' << shimmer << ',' << shimmerRatio << ',' << lowSpeed << '\n';
       Totals& tt = totals[i];
+      if (lowSpeed) {
+        tt.shimmerRatioSum += shimmerRatio;
+        tt.lowSpeedCases += 1;
+        tt.shimmerAboveNone += shimmerRatio > 1.0;
+      }
       tt.ratioSum += ratio;
       tt.cases += 1;
       tt.casesAboveNone += ratio > 1.0;
@@ -249,17 +285,21 @@ int runRenderSizeStudy(const Options& o) {
   std::fprintf(stderr, "\n");
   std::printf("render sizes (fractions of %dx%d, one a frame in turn):", o.width, o.height);
   for (double fraction : o.renderSizes) std::printf(" %.3g", fraction);
-  std::printf("\n%-24s %-17s %14s %16s %18s %12s\n", "method", "sizes", "RMSE / none's", "cases above none",
-              "frames above 1.10x", "worst frame");
+  std::printf("\n%-24s %-17s %14s %16s %18s %12s %17s %12s\n", "method", "sizes", "RMSE / none's",
+              "cases above none", "frames above 1.10x", "worst frame", "shimmer / none's", "above none");
   for (size_t i = 0; i < runs.size(); ++i) {
     const Totals& tt = totals[i];
-    std::printf("%-24s %-17s %14.3f %16d %18d %11.2fx\n", runs[i].method.c_str(), nameOf(runs[i].mode),
-                tt.ratioSum / std::max(tt.cases, 1), tt.casesAboveNone, tt.framesAbove110, tt.worstFrame);
+    std::printf("%-24s %-17s %14.3f %16d %18d %11.2fx %17.3f %12d\n", runs[i].method.c_str(),
+                nameOf(runs[i].mode), tt.ratioSum / std::max(tt.cases, 1), tt.casesAboveNone,
+                tt.framesAbove110, tt.worstFrame, tt.shimmerRatioSum / std::max(tt.lowSpeedCases, 1),
+                tt.shimmerAboveNone);
   }
   std::printf(
       "(mean over %zu cases of each case's mean RMSE over none's at the same sizes; frames: each frame's "
-      "RMSE over none's in that frame)\nOutputs: %s/render_sizes.csv\n",
-      scenarios.size(), o.outDir.c_str());
+      "RMSE over none's in that frame; shimmer: the temporal error against the truth over none's at the same "
+      "sizes on the full size's grid, mean over the %d cases with head speed p95 < %.0f deg/s)\nOutputs: "
+      "%s/render_sizes.csv\n",
+      scenarios.size(), totals.empty() ? 0 : totals[0].lowSpeedCases, kLowSpeedDegPerSec, o.outDir.c_str());
   return 0;
 }
 

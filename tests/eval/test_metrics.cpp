@@ -225,6 +225,33 @@ struct StereoRig {
   }
 };
 
+// resampled (the render-size study shows each frame at the full size, as a compositor): the same field of
+// view at another size. At its own size an image comes back to the bit; a picture linear in the horizontal
+// view coordinate u (pixel centres at (x + 0.5) / width) comes back as the same function of u at the new
+// size, away from the border half-pixel where bilinear clamps.
+TEST(EvalTemporalError, ResampledKeepsTheFieldOfView) {
+  Image noisy(23, 17);
+  for (size_t i = 0; i < noisy.rgb.size(); ++i) noisy.rgb[i] = float((i * 7919) % 251) / 251.0f;
+  const Image same = resampled(noisy, 23, 17);
+  ASSERT_EQ(same.rgb.size(), noisy.rgb.size());
+  for (size_t i = 0; i < noisy.rgb.size(); ++i) ASSERT_EQ(same.rgb[i], noisy.rgb[i]) << i;
+
+  const int from = 40, to = 32;
+  Image ramp(from, 4);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < from; ++x)
+      for (int c = 0; c < 3; ++c) ramp.at(x, y)[c] = (float(x) + 0.5f) / float(from);
+  for (int size : {to, 48}) {
+    const Image r = resampled(ramp, size, 4);
+    ASSERT_EQ(r.width, size);
+    for (int x = 0; x < size; ++x) {
+      const float u = (float(x) + 0.5f) / float(size);
+      if (u * float(from) < 1.0f || u * float(from) > float(from) - 1.0f) continue;  // the clamped border
+      EXPECT_NEAR(r.at(x, 2)[1], u, 1e-5f) << "size " << size << " x " << x;
+    }
+  }
+}
+
 TEST(EvalStereoError, MatchingEyeDifferenceScoresZero) {
   // A flat plane; the truth's eyes differ (right darker); a method whose eyes differ the same way
   // scores 0 even when both eyes carry the same offset from the truth.
