@@ -425,6 +425,34 @@ TEST_F(SessionTest, HistoryIsKeptWhenTheAppChangesItsRenderSize) {
   EXPECT_LE(differenceIn(checkerAfterGrey(app, fake, 32, 24, [] {}), checker, 24), 1.0f / 255.0f);
 }
 
+// Side by side, an eye's rect that grows reallocates the filter's images once, to the largest rect the image
+// holds at that offset short of the other eye's part: the same memory as an app that rendered at the full
+// size from the start (the left eye's images spanning both parts would take 1.5x).
+TEST_F(SessionTest, AGrowingRectSideBySideStopsAtTheOtherEye) {
+  // After warming up at the first size, one frame at each size: the filter's image memory, its reallocations.
+  const auto memoryAfter = [&](const std::vector<int32_t>& sizes) -> std::pair<uint64_t, uint64_t> {
+    FakeRuntime fake(*gVk);
+    Config cfg;
+    cfg.method = "steady";
+    App app(fake, cfg);
+    app.content = test::HostImage(64, 32, glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
+    app.renderSize = sizes.front();
+    if (!app.warmUp()) return {0, 0};
+    for (int32_t size : sizes) {
+      app.renderSize = size;
+      EXPECT_EQ(app.frame(), XR_SUCCESS);
+    }
+    const SessionStats stats = app.session_->stats();
+    return {stats.imageMemoryBytes, stats.renderSize.imagesReallocated};
+  };
+  const auto [fullBytes, fullReallocated] = memoryAfter({32});
+  const auto [grownBytes, grownReallocated] = memoryAfter({24, 32, 28});
+  EXPECT_GT(fullBytes, 0u);
+  EXPECT_EQ(fullReallocated, 0u);
+  EXPECT_EQ(grownReallocated, 1u);
+  EXPECT_EQ(grownBytes, fullBytes) << "after growing from 24 px to 32 px in each half of a 64 x 32 image";
+}
+
 TEST_F(SessionTest, SwapchainsTheAppNeverEnumeratedAreFiltered) {
   FakeRuntime fake(*gVk);
   App app(fake, {}, /*enumerate=*/false);

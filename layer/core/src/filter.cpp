@@ -67,6 +67,14 @@ RenderSizeCounters Filter::renderSizeCounters() const {
   return impl_->sizeCounters;
 }
 
+uint64_t Filter::imageMemoryBytes() const {
+  uint64_t bytes = 0;
+  for (const detail::EyeState& eye : impl_->eyes)
+    for (const auto* images : {&eye.history, &eye.scratch, &eye.shown})
+      for (const detail::OwnedImage& img : *images) bytes += img.bytes;
+  return bytes;
+}
+
 std::vector<PipelineDescription> Filter::pipelines() const {
   return impl_->pipelines.made();
 }

@@ -50,6 +50,7 @@ bool Filter::Impl::createImage(OwnedImage& img, VkExtent2D extent, VkFormat form
     return false;
   }
   img.memory = Unique<VkDeviceMemory>(device, mem);
+  img.bytes = req.size;
   vkBindImageMemory(device, image, mem, 0);
   VkImageViewCreateInfo vci{};
   vci.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO;

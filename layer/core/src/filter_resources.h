@@ -37,6 +37,7 @@ struct OwnedImage {
   Unique<VkImageView> view;
   VkExtent2D extent{};
   VkFormat format = VK_FORMAT_UNDEFINED;
+  VkDeviceSize bytes = 0;    // the device memory it holds
   bool initialised = false;  // transitioned from UNDEFINED to GENERAL
   bool clearOnInit = false;  // cleared to 0 then: texels outside the rect stay finite for bilinear taps
 };

@@ -130,6 +130,29 @@ bool Filter::Impl::checkInputs(const StereoFrame& frame, const StereoOutput& out
   return true;
 }
 
+namespace {
+
+// How large view e's rect can grow at its offset: to the edge of the app's image, short of the other view's
+// rect where both share the image and its layer (side by side, or one above the other), since an app never
+// renders one eye into the other's part.
+VkExtent2D roomForRect(const StereoFrame& frame, uint32_t viewCount, uint32_t e) {
+  const ImageRef& in = frame.views[e].color;
+  const int64_t x0 = in.rect.offset.x, y0 = in.rect.offset.y;
+  int64_t right = in.extent.width, bottom = in.extent.height;
+  for (uint32_t o = 0; o < viewCount; ++o) {
+    const ImageRef& other = frame.views[o].color;
+    if (o == e || other.image != in.image || other.arrayLayer != in.arrayLayer) continue;
+    if (other.rect.offset.x >= x0 + int64_t(in.rect.extent.width))
+      right = std::min<int64_t>(right, other.rect.offset.x);
+    else if (other.rect.offset.y >= y0 + int64_t(in.rect.extent.height))
+      bottom = std::min<int64_t>(bottom, other.rect.offset.y);
+  }
+  return {static_cast<uint32_t>(std::max<int64_t>(right - x0, 0)),
+          static_cast<uint32_t>(std::max<int64_t>(bottom - y0, 0))};
+}
+
+}  // namespace
+
 bool Filter::Impl::prepareEyes(const StereoFrame& frame, FramePlan& plan, std::string* error) {
   const uint32_t n = plan.viewCount;
   // Internal images hold any rect up to their capacity; a rect that outgrows it, or a change of the
@@ -144,12 +167,13 @@ bool Filter::Impl::prepareEyes(const StereoFrame& frame, FramePlan& plan, std::s
     if (!eye.history[0].image || !fits || eye.history[0].format != histFormat ||
         held != static_cast<bool>(eye.shown[0].image)) {
       // A rect that outgrows the images is an app changing its render size (dynamic resolution): from
-      // then on they take the largest rect the app's image holds at this offset, as FSR2 allocates for its
-      // maximum render size, so that later changes keep the history. The first size is taken as it is.
+      // then on they take the largest rect the app's image holds at this offset, short of the other eye's
+      // part (roomForRect), as FSR2 allocates for its maximum render size, so that later changes keep the
+      // history. The first size is taken as it is.
       VkExtent2D capacity = fits ? eye.capacity : size;
       if (eye.history[0].image && !fits) {
-        capacity = {std::max(size.width, in.extent.width - static_cast<uint32_t>(in.rect.offset.x)),
-                    std::max(size.height, in.extent.height - static_cast<uint32_t>(in.rect.offset.y))};
+        const VkExtent2D room = roomForRect(frame, plan.viewCount, e);
+        capacity = {std::max(size.width, room.width), std::max(size.height, room.height)};
       }
       plan.imagesReallocated = plan.imagesReallocated || eye.history[0].image;
       waitAll();

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -98,7 +99,8 @@ std::string SessionStats::summary() const {
      << " frames_disabled=" << framesDisabled << " history_dropped=" << historyDropped
      << " render_size_changes=" << renderSize.framesResized
      << " history_kept_resized=" << renderSize.historyKeptResized
-     << " images_reallocated=" << renderSize.imagesReallocated;
+     << " images_reallocated=" << renderSize.imagesReallocated << " image_memory_mib=" << std::fixed
+     << std::setprecision(1) << double(imageMemoryBytes) / (1024.0 * 1024.0) << std::defaultfloat;
   if (passedTotal > 0) {
     os << " (";
     bool first = true;

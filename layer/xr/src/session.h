@@ -125,6 +125,7 @@ struct SessionStats {
   uint64_t jitterUnmatched = 0;    // filtered views whose fov was not one the layer jittered
   uint64_t historyDropped = 0;     // filtered frames that started without the history (HistoryContinuity)
   core::RenderSizeCounters renderSize;  // the app's changes of render size (dynamic resolution)
+  uint64_t imageMemoryBytes = 0;        // the filter's own images (core::Filter::imageMemoryBytes)
   std::string summary() const;
 };
 

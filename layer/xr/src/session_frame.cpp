@@ -117,6 +117,7 @@ XrResult Session::endFrame(const XrFrameEndInfo* info) {
         continuity_.filtered(work.input.displayTimeNs, poseSpace);
         if (work.input.reset) ++stats_.historyDropped;
         stats_.renderSize = filter_->renderSizeCounters();
+        stats_.imageMemoryBytes = filter_->imageMemoryBytes();
       }
     }
     releaseOutputs(work);

@@ -99,6 +99,7 @@ std::string Session::statusText() const {
   os << "render_size_changes=" << stats_.renderSize.framesResized << "\n";
   os << "history_kept_resized=" << stats_.renderSize.historyKeptResized << "\n";
   os << "images_reallocated=" << stats_.renderSize.imagesReallocated << "\n";
+  os << "image_memory_bytes=" << stats_.imageMemoryBytes << "\n";
   if (stats_.timingFrames > 0) {
     const double n = static_cast<double>(stats_.timingFrames);
     char buf[200];

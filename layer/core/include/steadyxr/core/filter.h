@@ -80,6 +80,8 @@ class Filter {
   std::optional<GainProbeSums> lastGainProbe() const;
   // The filtered frames' changes of render size, and what became of the history across them.
   RenderSizeCounters renderSizeCounters() const;
+  // The device memory of the filter's own images (each eye's history and their companions), in bytes.
+  uint64_t imageMemoryBytes() const;
 
   // The pipelines made so far, in no particular order (steadyxr-bench --pipelines prints them for
   // steadyxr-shader-stats).

@@ -86,6 +86,15 @@ struct PassTimings {
   uint64_t frameIndex = 0;  // which submitted frame these belong to
 };
 
+// How the filter met an app's changes of render size (dynamic resolution), counted over the frames it
+// filtered since it was made.
+struct RenderSizeCounters {
+  uint64_t framesResized = 0;       // a view's rect size differs from its size in the frame before
+  uint64_t historyKeptResized = 0;  // a temporal method reprojected a history written at another size
+  // The internal images made anew (a rect that outgrew them), each dropping the history.
+  uint64_t imagesReallocated = 0;
+};
+
 // What steady's gain probe (Params::steadyGainCompensation) summed in a frame, both eyes together: its
 // samples, and their mean luma (R/4 + G/2 + B/4, each sample clamped to [0, 1]) in this frame and in the
 // history reprojected to it, and the mean magnitude of their difference (clamped to 0.5); round 31
@@ -97,15 +106,6 @@ struct PassTimings {
 // from its four 2x2 quads) in this frame and in the history, where the history has one.
 // The frame's gain, whether it explains the change (round 17) and whether the pose explains the frame
 // (round 31) are decided from these on the GPU (temporal.comp).
-// How the filter met an app's changes of render size (dynamic resolution), counted over the frames it
-// filtered since it was made.
-struct RenderSizeCounters {
-  uint64_t framesResized = 0;       // a view's rect size differs from its size in the frame before
-  uint64_t historyKeptResized = 0;  // a temporal method reprojected a history written at another size
-  uint64_t imagesReallocated =
-      0;  // the internal images made anew (a rect that outgrew them): history dropped
-};
-
 struct GainProbeSums {
   uint32_t samples = 0;
   double currentMeanLuma = 0.0;
