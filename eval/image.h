@@ -41,11 +41,10 @@ bool savePng(const std::string& path, const Image& image, std::string* error);
 Image fromRgba8(const uint8_t* rgba, int width, int height);
 // Bilinear sample at continuous pixel coordinates (pixel centres at +0.5); false outside.
 bool sampleBilinear(const Image& image, float fx, float fy, float out[3]);
-// Crop [x0, x0+w) x [y0, y0+h) and magnify each pixel to `scale` x `scale` (nearest).
 // The image resampled to w x h over the same field of view (bilinear at each new pixel's centre);
 // the identity, to the bit, at the image's own size.
 Image resampled(const Image& image, int w, int h);
-
+// Crop [x0, x0+w) x [y0, y0+h) and magnify each pixel to `scale` x `scale` (nearest).
 Image cropMagnify(const Image& image, int x0, int y0, int w, int h, int scale);
 // |a - b| * gain per channel, clamped to [0, 1].
 Image differenceImage(const Image& a, const Image& b, float gain);

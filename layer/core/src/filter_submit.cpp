@@ -386,7 +386,7 @@ void Filter::Impl::advanceEyes(const StereoFrame& frame, const FramePlan& plan) 
     eye.lastSize = size;
     eye.valid = plan.temporal && plan.poseOk[e];
     eye.shownValid = eye.shownWritten;
-    eye.written[historyIndex] = frame.views[e].color.rect.extent;
+    eye.written[historyIndex] = size;
     if (plan.poseOk[e]) {
       eye.prevPose = frame.views[e].pose;
       eye.prevFov = frame.views[e].fov;
