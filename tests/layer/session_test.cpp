@@ -1,182 +1,20 @@
 // A Session on real Vulkan (lavapipe) behind a fault-injecting next layer (fake_runtime.h): the
 // smaller faults of issue 15, each on the path the layer really takes.
-#include "fake_runtime.h"
+#include "session_app.h"
 
 #include <gtest/gtest.h>
 
 #include <chrono>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <future>
-#include <sstream>
 #include <thread>
-
-#include <unistd.h>
 
 namespace steadyxr::layer {
 namespace {
 
-using test::FakeRuntime;
-namespace fs = std::filesystem;
-
-core::VulkanContext* gVk = nullptr;
-
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-bool sameFov(const XrFovf& a, const XrFovf& b) {
-  return a.angleLeft == b.angleLeft && a.angleRight == b.angleRight && a.angleUp == b.angleUp &&
-         a.angleDown == b.angleDown;
-}
-
-size_t countOf(const std::string& text, const std::string& what) {
-  size_t n = 0;
-  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
-
-// An "app": one session, one side-by-side colour swapchain, frames submitted as a real app does.
-class App {
- public:
-  explicit App(FakeRuntime& fake, Config cfg = {}, bool enumerate = true,
-               VkFormat format = VK_FORMAT_R8G8B8A8_UNORM)
-      : fake_(fake),
-        dir_(fs::temp_directory_path() / ("steadyxr-session-test-" + std::to_string(::getpid()))) {
-    fs::create_directories(dir_);
-    cfg.logFile = (dir_ / "layer.log").string();
-    if (cfg.method == "default") cfg.method = "none";  // one small pipeline: compiles fast
-    instance_ = std::make_shared<InstanceState>();
-    instance_->handle = reinterpret_cast<XrInstance>(uintptr_t{0x11});
-    instance_->next = fake.dispatch();
-    instance_->config = cfg;
-    instance_->log = std::make_unique<Logger>(LogLevel::Info, cfg.logFile);
-    instance_->vulkanApiVersion = VK_API_VERSION_1_1;
-    auto binding = makeXr<XrGraphicsBindingVulkanKHR>(XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR);
-    binding.instance = gVk->instance();
-    binding.physicalDevice = gVk->physicalDevice();
-    binding.device = gVk->device();
-    binding.queueFamilyIndex = gVk->queueFamilyIndex();
-    session_ = std::make_unique<Session>(instance_, reinterpret_cast<XrSession>(uintptr_t{0x22}), 1, binding);
-    auto ci = makeXr<XrSwapchainCreateInfo>(XR_TYPE_SWAPCHAIN_CREATE_INFO);
-    ci.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT;
-    ci.format = format;
-    ci.sampleCount = 1;
-    ci.width = 64;
-    ci.height = 32;
-    ci.faceCount = 1;
-    ci.arraySize = 1;
-    ci.mipCount = 1;
-    EXPECT_EQ(session_->createSwapchain(&ci, &swapchain_), XR_SUCCESS);
-    {
-      std::lock_guard lock(fake.mutex);
-      fake.appSwapchains.push_back(swapchain_);
-    }
-    if (enumerate) {
-      uint32_t n = 0;
-      session_->enumerateImages(swapchain_, 0, &n, nullptr);
-      std::vector<XrSwapchainImageVulkanKHR> imgs(
-          n, makeXr<XrSwapchainImageVulkanKHR>(XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR));
-      session_->enumerateImages(swapchain_, n, &n,
-                                reinterpret_cast<XrSwapchainImageBaseHeader*>(imgs.data()));
-    }
-  }
-  ~App() {
-    session_.reset();
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
-  // Renders (acquire, wait, release) and submits one frame; returns xrEndFrame's result.
-  XrResult frame() {
-    uint32_t index = 0;
-    EXPECT_EQ(session_->acquire(swapchain_, nullptr, &index), XR_SUCCESS);
-    auto wi = makeXr<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
-    EXPECT_EQ(session_->next().waitSwapchainImage(swapchain_, &wi), XR_SUCCESS);
-    if (content) fake_.chains[swapchain_].images[index]->upload(*content, 0, kRenderedLayout);
-    EXPECT_EQ(session_->release(swapchain_, nullptr), XR_SUCCESS);
-    for (uint32_t v = 0; v < 2; ++v) {
-      views_[v] = makeXr<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW);
-      views_[v].pose.orientation.w = 1.0f;
-      views_[v].fov = fov_[v];
-      views_[v].subImage.swapchain = swapchain_;
-      views_[v].subImage.imageRect = {{int32_t(32 * v), 0}, {renderSize, renderSize}};
-    }
-    proj_ = makeXr<XrCompositionLayerProjection>(XR_TYPE_COMPOSITION_LAYER_PROJECTION);
-    proj_.viewCount = 2;
-    proj_.views = views_.data();
-    layers_[0] = reinterpret_cast<const XrCompositionLayerBaseHeader*>(&proj_);
-    info_ = makeXr<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
-    info_.displayTime = time_ += 11'000'000;
-    info_.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
-    info_.layerCount = 1;
-    info_.layers = layers_.data();
-    return session_->endFrame(&info_);
-  }
-  // A frame without the app's world (a loading screen, a pause): no layer at all.
-  XrResult emptyFrame() {
-    info_ = makeXr<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
-    info_.displayTime = time_ += 11'000'000;
-    info_.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
-    return session_->endFrame(&info_);
-  }
-  // What the runtime was last handed to show: the layer's output image, both views side by side.
-  test::HostImage shown() {
-    FakeRuntime::Chain& out = fake_.chains[fake_.lastSubmittedSwapchain];
-    const auto n = static_cast<uint32_t>(out.images.size());
-    return out.images[(out.nextIndex + n - 1) % n]->download(0, kRenderedLayout);  // released last
-  }
-  // Frames until the first is filtered (the pipelines compile in the background).
-  bool warmUp() {
-    for (int i = 0; i < 400; ++i) {
-      frame();
-      if (session_->stats().framesFiltered > 0) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(25));
-    }
-    return false;
-  }
-  uint64_t passed(PassReason r) { return session_->stats().passed[static_cast<size_t>(r)]; }
-  std::string log() const { return readFile(dir_ / "layer.log"); }
-
-  FakeRuntime& fake_;
-  fs::path dir_;
-  std::shared_ptr<InstanceState> instance_;
-  std::unique_ptr<Session> session_;
-  XrSwapchain swapchain_ = XR_NULL_HANDLE;
-  static constexpr XrFovf kFov{-0.7f, 0.7f, 0.7f, -0.7f};
-  std::array<XrFovf, 2> fov_{kFov, kFov};  // what the app submits for each view
-  std::array<XrCompositionLayerProjectionView, 2> views_{};
-  XrCompositionLayerProjection proj_{};
-  std::array<const XrCompositionLayerBaseHeader*, 1> layers_{};
-  XrFrameEndInfo info_{};
-  XrTime time_ = 1'000'000'000;
-  std::optional<test::HostImage> content;  // what each frame renders, if set
-  int32_t renderSize = 32;  // each view's rect: this square at the top-left of its half of the image
-  // The Vulkan binding's layout between wait and release, and the runtime's after release.
-  static constexpr VkImageLayout kRenderedLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-};
-
-class SessionTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    std::string err;
-    ctx_ = core::VulkanContext::createOwned({}, &err);
-    ASSERT_TRUE(ctx_) << err;
-    gVk = ctx_.get();
-  }
-  static void TearDownTestSuite() {
-    gVk = nullptr;
-    ctx_.reset();
-  }
-  void SetUp() override { ASSERT_TRUE(ctx_); }
-  static std::unique_ptr<core::VulkanContext> ctx_;
-};
-std::unique_ptr<core::VulkanContext> SessionTest::ctx_;
+using namespace session_rig;
 
 TEST_F(SessionTest, InvalidFramesAreForwardedUntouched) {
   FakeRuntime fake(*gVk);
@@ -363,94 +201,6 @@ TEST_F(SessionTest, HistoryIsDroppedAfterAFrameWithoutTheAppsWorldOrALongGap) {
   EXPECT_EQ(empty, XR_SUCCESS);
   EXPECT_LE(newLevelAfter([&] { app.time_ += 2'000'000'000; }), 1.0f / 255.0f);  // paused for 2 s
   EXPECT_EQ(app.session_->stats().historyDropped, droppedBefore + 2);
-}
-
-// Dynamic resolution: an app that renders a smaller or larger part of its swapchain from one frame to the
-// next (up to the size it started at) keeps steady's history: after four grey frames at one size, the
-// checker at another differs from steady's checker without a history (after a loading screen), at 24 px
-// after 32 and at 32 after 24. (Its fresh start where the pose does not explain a frame, and the gain that
-// would relight the grey, are off: they would take the grey out at the checker's first frame whatever the
-// size.) Plain taa starts afresh at each change, and blends the grey in where the size stays.
-TEST_F(SessionTest, HistoryIsKeptWhenTheAppChangesItsRenderSize) {
-  const test::HostImage grey(64, 32, glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
-  test::HostImage checker(64, 32);
-  for (uint32_t y = 0; y < 32; ++y)
-    for (uint32_t x = 0; x < 64; ++x) checker.at(x, y) = glm::vec4(glm::vec3(float((x + y) % 2)), 1.0f);
-  // Four grey frames at greySize, then (after `between`) the checker at checkerSize: what is shown.
-  const auto checkerAfterGrey = [&](App& app, FakeRuntime& fake, int32_t greySize, int32_t checkerSize,
-                                    const std::function<void()>& between) {
-    app.content = grey;
-    app.renderSize = greySize;
-    for (int i = 0; i < 4; ++i) EXPECT_EQ(app.frame(), XR_SUCCESS);
-    between();
-    app.content = checker;
-    app.renderSize = checkerSize;
-    EXPECT_EQ(app.frame(), XR_SUCCESS);
-    EXPECT_NE(fake.lastSubmittedSwapchain, app.swapchain_);  // filtered
-    return app.shown();
-  };
-  // The largest difference inside both views' rects of `size` (the rest is not shown).
-  const auto differenceIn = [](const test::HostImage& a, const test::HostImage& b, int32_t size) {
-    float worst = 0.0f;
-    for (uint32_t v = 0; v < 2; ++v)
-      for (uint32_t y = 0; y < uint32_t(size); ++y)
-        for (uint32_t x = 32 * v; x < 32 * v + uint32_t(size); ++x)
-          for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(a.at(x, y)[c] - b.at(x, y)[c]));
-    return worst;
-  };
-  {
-    FakeRuntime fake(*gVk);
-    Config cfg;
-    cfg.method = "steady";
-    cfg.params.steadyUnexplainedFrameResets = false;
-    cfg.params.steadyGainCompensation = false;
-    App app(fake, cfg);
-    app.content = grey;
-    ASSERT_TRUE(app.warmUp());
-    for (const auto& [greySize, checkerSize] : {std::pair{32, 24}, std::pair{24, 32}}) {
-      const test::HostImage fresh =
-          checkerAfterGrey(app, fake, greySize, checkerSize, [&] { app.emptyFrame(); });
-      const test::HostImage kept = checkerAfterGrey(app, fake, greySize, checkerSize, [] {});
-      EXPECT_GT(differenceIn(kept, fresh, checkerSize), 0.1f) << greySize << " px, then " << checkerSize;
-    }
-    EXPECT_EQ(app.session_->stats().historyDropped, 2u);  // the loading screens only
-  }
-  FakeRuntime fake(*gVk);
-  Config cfg;
-  cfg.method = "taa";  // without a history: the checker as it is
-  App app(fake, cfg);
-  app.content = grey;
-  ASSERT_TRUE(app.warmUp());
-  EXPECT_GT(differenceIn(checkerAfterGrey(app, fake, 32, 32, [] {}), checker, 32), 0.2f);  // blended
-  EXPECT_LE(differenceIn(checkerAfterGrey(app, fake, 32, 24, [] {}), checker, 24), 1.0f / 255.0f);
-}
-
-// Side by side, an eye's rect that grows reallocates the filter's images once, to the largest rect the image
-// holds at that offset short of the other eye's part: the same memory as an app that rendered at the full
-// size from the start (the left eye's images spanning both parts would take 1.5x).
-TEST_F(SessionTest, AGrowingRectSideBySideStopsAtTheOtherEye) {
-  // After warming up at the first size, one frame at each size: the filter's image memory, its reallocations.
-  const auto memoryAfter = [&](const std::vector<int32_t>& sizes) -> std::pair<uint64_t, uint64_t> {
-    FakeRuntime fake(*gVk);
-    Config cfg;
-    cfg.method = "steady";
-    App app(fake, cfg);
-    app.content = test::HostImage(64, 32, glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
-    app.renderSize = sizes.front();
-    if (!app.warmUp()) return {0, 0};
-    for (int32_t size : sizes) {
-      app.renderSize = size;
-      EXPECT_EQ(app.frame(), XR_SUCCESS);
-    }
-    const SessionStats stats = app.session_->stats();
-    return {stats.imageMemoryBytes, stats.renderSize.imagesReallocated};
-  };
-  const auto [fullBytes, fullReallocated] = memoryAfter({32});
-  const auto [grownBytes, grownReallocated] = memoryAfter({24, 32, 28});
-  EXPECT_GT(fullBytes, 0u);
-  EXPECT_EQ(fullReallocated, 0u);
-  EXPECT_EQ(grownReallocated, 1u);
-  EXPECT_EQ(grownBytes, fullBytes) << "after growing from 24 px to 32 px in each half of a 64 x 32 image";
 }
 
 TEST_F(SessionTest, SwapchainsTheAppNeverEnumeratedAreFiltered) {
