@@ -66,6 +66,11 @@ FORWARD_MAX_M = 1.0
 # stutters now and then (5 %) to one that misses nearly a third of its frames; beyond that a runtime locks
 # the app to half rate (a steady 2-period step, which the eval's --app-hz already covers).
 DROP_RANGE = (0.05, 0.3)
+# The eval's clock for --drop-frames (eval/frame_clock.cpp): at most this many periods missed in a row.
+MOST_MISSED_IN_A_ROW = 3
+# A trace covers its run and this much more (stress_motion.make_trace's default), so that the last frame
+# of a run without drops has its poses and the head speed around it.
+TRACE_MARGIN_S = 0.5
 
 
 def parse_args(argv):
@@ -169,12 +174,48 @@ def draw_drops(rng, fraction):
     return round(float(rng.uniform(*DROP_RANGE)), 3)
 
 
+def eval_missed_periods(frames, drop, seed):
+    """The app periods the eval's clock misses over a run of `frames` at --drop-frames `drop` and --seed
+    `seed`, as eval/frame_clock.cpp draws them (splitmix64 from seed ^ 0xD809F3A5C1E2B467; after each frame
+    but the last, a period missed while a draw in [0, 1) falls below drop, at most MOST_MISSED_IN_A_ROW).
+    main() checks it against each run's results.json, which the eval writes from its own clock."""
+    if drop <= 0.0 or frames <= 1:
+        return 0
+    mask = (1 << 64) - 1
+    state = (seed ^ 0xD809F3A5C1E2B467) & mask
+    missed = 0
+    for _ in range(frames - 1):
+        in_a_row = 0
+        while in_a_row < MOST_MISSED_IN_A_ROW:
+            state = (state + 0x9E3779B97F4A7C15) & mask
+            z = ((state ^ (state >> 30)) * 0xBF58476D1CE4E5B9) & mask
+            z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & mask
+            if ((z ^ (z >> 31)) >> 11) * 2.0 ** -53 >= drop:
+                break
+            in_a_row += 1
+        missed += in_a_row
+    return missed
+
+
+def trace_cover_s(case):
+    """How long the case's trace runs: its frames at the app rate and TRACE_MARGIN_S more, as it always
+    did, unless the app's missed periods take the run past that (seed 84: a 48-frame run at 30 Hz missing
+    16 periods needed 2.13 s of a 2.1-s trace); then the run's end and the margin. Cases
+    whose trace was long enough keep it, so earlier rounds' draws are the same."""
+    run_s = case["frames"] / case["app_hz"]
+    missed = eval_missed_periods(case["frames"], case.get("drop", 0.0), case["index"])
+    # A trace's run starts at its t = 0, and the eval shows the last frame for one period (eval/suite.cpp).
+    shown_until_s = (case["frames"] + missed) / case["app_hz"]
+    usual_end_s = np.arange(0.0, run_s + TRACE_MARGIN_S, 1.0 / stress_motion.RATE_HZ)[-1]  # its last sample
+    return run_s + TRACE_MARGIN_S if shown_until_s <= usual_end_s else shown_until_s + TRACE_MARGIN_S
+
+
 def write_case_inputs(case, out):
     """Writes the case's picture and trace; returns their paths and drawn parameters."""
     rng = case.pop("rng")
     pixels, picture_params = stress_pictures.make_picture(case["picture_kind"], rng, case["resolution"])
     run_s = case["frames"] / case["app_hz"]
-    rows, motion_params = stress_motion.make_trace(case["motion_kind"], rng, run_s)
+    rows, motion_params = stress_motion.make_trace(case["motion_kind"], rng, run_s, trace_cover_s(case))
     picture_path = out / "pictures" / f"{case['name']}-{case['picture_kind']}.png"
     trace_path = out / "traces" / f"{case['name']}-{case['motion_kind']}.csv"
     picture_path.parent.mkdir(parents=True, exist_ok=True)
@@ -387,6 +428,13 @@ def main(argv):
                               env=env)
         if proc.returncode != 0:
             c["error"] = (proc.stderr.strip().splitlines() or [f"exit {proc.returncode}"])[-1]
+            continue
+        with open(run_dir / "results.json") as f:
+            missed = json.load(f)["config"]["missed_periods"]
+        if missed != eval_missed_periods(c["frames"], c.get("drop", 0.0), c["index"]):
+            c["error"] = (f"the eval missed {missed} app periods, stress.py's copy of its clock "
+                          f"{eval_missed_periods(c['frames'], c.get('drop', 0.0), c['index'])}: the trace's "
+                          "length is planned from the copy (eval/frame_clock.cpp changed?)")
             continue
         c["verdict"] = judge(c, run_dir)
     seconds = time.monotonic() - started

@@ -171,9 +171,10 @@ COMPONENTS = {"tremor": tremor, "drift": drift, "sway": sway, "pursuit": pursuit
 KINDS = ["tremor", "drift", "sway", "pursuit", "saccade", "turn", "mix"]
 
 
-def make_trace(kind, rng, run_s):
-    """(rows as an (N, 11) array, parameters drawn) of one trace of this kind covering run_s + 0.5 s."""
-    t = np.arange(0.0, run_s + 0.5, 1.0 / RATE_HZ)
+def make_trace(kind, rng, run_s, cover_s=None):
+    """(rows as an (N, 11) array, parameters drawn) of one trace of this kind covering cover_s (by default
+    run_s + 0.5 s); its motion is drawn for a run of run_s."""
+    t = np.arange(0.0, run_s + 0.5 if cover_s is None else cover_s, 1.0 / RATE_HZ)
     m = _Motion(t)
     params = {"kind": kind}
     parts = ["tremor"]
