@@ -288,7 +288,10 @@ void processPixel(ivec2 p, ivec2 o) {
     float iz;
     const bool confirmed = reproject(P.reproj[0], pc, invZ, q, iz) && historyValid && !gPoseUnexplained;
     shownFrom = q;
-    shownBefore = confirmed && P.shownValid != 0;
+    // Last frame's codes are of this frame's pixels only at the same render size; after a change of size
+    // (an app's dynamic resolution) they are of other pixels, and the output rounds (round 39: holding them
+    // across the change, its move measured in this frame's pixels, gave nothing at 1, 0.75).
+    shownBefore = confirmed && P.shownValid != 0 && P.src1Size == P.src0Size;
     // The hold is for a picture that stood still: its margin shrinks with how far the picture moved at
     // this pixel since last frame, to nothing at half a pixel, where last frame's code is as likely a
     // neighbour's (a turn over a fine grating: codes of other places, kept).
