@@ -408,8 +408,9 @@ CaseResult Xr::runCase(const CaseSpec& spec, int frames, const std::function<boo
       if (!render(s, s.width, s.height, s.layers, f, false)) return finish(false, " depth render failed");
     if (quad.handle && !render(quad, 64, 64, 1, f, false)) return finish(false, " quad render failed");
     // Dynamic resolution: the app renders into less of the same image (the probe draws the whole image;
-    // the rect picks its top-left part). 0.8 of it until the layer filters, then a new size every
-    // frame: the filter's first size, one larger (its images reallocated), smaller ones (kept).
+    // the rect picks a part of it). 0.8 of it until the layer filters, then a new size every frame: the
+    // filter's first size, one larger (its images reallocated), smaller ones (kept). A rect smaller than
+    // its image also moves inside it every frame (the history is in the rect's own pixels: kept).
     static constexpr float kRenderScale[] = {1.0f, 0.9f, 0.8f, 0.9f};
     if (spec.dynamicResolution && sizeChangesFrom < 0 && (!layerFiltering || layerFiltering()))
       sizeChangesFrom = f;
@@ -417,6 +418,9 @@ CaseResult Xr::runCase(const CaseSpec& spec, int frames, const std::function<boo
                         : sizeChangesFrom < 0   ? 0.8f
                                                 : kRenderScale[(f - sizeChangesFrom) % 4];
     const int32_t rw = int32_t(std::lround(float(w) * scale)), rh = int32_t(std::lround(float(h) * scale));
+    const XrOffset2Di moved = !spec.dynamicResolution ? XrOffset2Di{0, 0}
+                                                      : XrOffset2Di{(5 * f) % (int32_t(w) - rw + 1),
+                                                                    (3 * f) % (int32_t(h) - rh + 1)};
     std::array<XrCompositionLayerProjectionView, 2> views{};
     std::array<XrCompositionLayerDepthInfoKHR, 2> depthInfo{};
     for (uint32_t v = 0; v < 2; ++v) {
@@ -425,7 +429,8 @@ CaseResult Xr::runCase(const CaseSpec& spec, int frames, const std::function<boo
       views[v].fov = xv[v].fov;
       const Swapchain& s = color[spec.kind == CaseKind::PerEye ? v : 0];
       views[v].subImage.swapchain = s.handle;
-      views[v].subImage.imageRect = {{spec.kind == CaseKind::SideBySide ? int32_t(v * w) : 0, 0}, {rw, rh}};
+      views[v].subImage.imageRect = {
+          {(spec.kind == CaseKind::SideBySide ? int32_t(v * w) : 0) + moved.x, moved.y}, {rw, rh}};
       views[v].subImage.imageArrayIndex = spec.kind == CaseKind::Array ? v : 0;
       if (spec.depth) {
         depthInfo[v] = xrStruct<XrCompositionLayerDepthInfoKHR>(XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR);
