@@ -8,9 +8,8 @@
 # Runs: v2 with method none (every case; dumped output == input in RGBA), v2 with the default
 # method (alpha carried through the temporal and stereo passes; dynres: a render size that changes
 # every frame and a rect that moves inside its image, the history kept across it), v2 with method none
-# through a loading
-# screen (the history dropped after frames without layers), the invalid xrEndFrame calls
-# with and without steadyxr (same results required), and v1 (XR_KHR_vulkan_enable).
+# through a loading screen (the history dropped after frames without layers), the invalid xrEndFrame
+# calls with and without steadyxr (same results required), and v1 (XR_KHR_vulkan_enable).
 # Exit: 0 pass, 1 fail, 77 skipped (no trixie root could be built).
 set -uo pipefail
 
