@@ -431,10 +431,10 @@ def main(argv):
             continue
         with open(run_dir / "results.json") as f:
             missed = json.load(f)["config"]["missed_periods"]
-        if missed != eval_missed_periods(c["frames"], c.get("drop", 0.0), c["index"]):
-            c["error"] = (f"the eval missed {missed} app periods, stress.py's copy of its clock "
-                          f"{eval_missed_periods(c['frames'], c.get('drop', 0.0), c['index'])}: the trace's "
-                          "length is planned from the copy (eval/frame_clock.cpp changed?)")
+        planned = eval_missed_periods(c["frames"], c.get("drop", 0.0), c["index"])
+        if missed != planned:
+            c["error"] = (f"the eval missed {missed} app periods, stress.py's copy of its clock {planned}: the "
+                          "trace's length is planned from the copy (eval/frame_clock.cpp changed?)")
             continue
         c["verdict"] = judge(c, run_dir)
     seconds = time.monotonic() - started
