@@ -68,9 +68,6 @@ FORWARD_MAX_M = 1.0
 DROP_RANGE = (0.05, 0.3)
 # The eval's clock for --drop-frames (eval/frame_clock.cpp): at most this many periods missed in a row.
 MOST_MISSED_IN_A_ROW = 3
-# A trace covers its run and this much more (stress_motion.make_trace's default), so that the last frame
-# of a run without drops has its poses and the head speed around it.
-TRACE_MARGIN_S = 0.5
 
 
 def parse_args(argv):
@@ -198,16 +195,17 @@ def eval_missed_periods(frames, drop, seed):
 
 
 def trace_cover_s(case):
-    """How long the case's trace runs: its frames at the app rate and TRACE_MARGIN_S more, as it always
-    did, unless the app's missed periods take the run past that (seed 84: a 48-frame run at 30 Hz missing
-    16 periods needed 2.13 s of a 2.1-s trace); then the run's end and the margin. Cases
-    whose trace was long enough keep it, so earlier rounds' draws are the same."""
+    """How long the case's trace runs: its frames at the app rate and the usual margin more
+    (stress_motion.TRACE_MARGIN_S), as it always did, unless the app's missed periods take the run past that
+    (seed 84: a 48-frame run at 30 Hz missing 16 periods needed 2.13 s of a 2.1-s trace); then the run's end
+    and the margin. Cases whose trace was long enough keep it, so earlier rounds' draws are the same."""
+    margin = stress_motion.TRACE_MARGIN_S
     run_s = case["frames"] / case["app_hz"]
     missed = eval_missed_periods(case["frames"], case.get("drop", 0.0), case["index"])
     # A trace's run starts at its t = 0, and the eval shows the last frame for one period (eval/suite.cpp).
     shown_until_s = (case["frames"] + missed) / case["app_hz"]
-    usual_end_s = np.arange(0.0, run_s + TRACE_MARGIN_S, 1.0 / stress_motion.RATE_HZ)[-1]  # its last sample
-    return run_s + TRACE_MARGIN_S if shown_until_s <= usual_end_s else shown_until_s + TRACE_MARGIN_S
+    usual_end_s = np.arange(0.0, run_s + margin, 1.0 / stress_motion.RATE_HZ)[-1]  # the usual trace's last sample
+    return run_s + margin if shown_until_s <= usual_end_s else shown_until_s + margin
 
 
 def write_case_inputs(case, out):

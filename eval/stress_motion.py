@@ -27,6 +27,9 @@ Ranges and where they come from (each component's docstring says more):
 import numpy as np
 
 RATE_HZ = 1000.0
+# A trace covers its run and this much more, so that a run's last frame has its poses and the head speed
+# around it.
+TRACE_MARGIN_S = 0.5
 NECK_TO_EYES = np.array([0.0, 0.07, -0.07])  # imu/motion_extra.h
 TREMOR_BAND_HZ = (8.0, 12.0)
 
@@ -173,8 +176,8 @@ KINDS = ["tremor", "drift", "sway", "pursuit", "saccade", "turn", "mix"]
 
 def make_trace(kind, rng, run_s, cover_s=None):
     """(rows as an (N, 11) array, parameters drawn) of one trace of this kind covering cover_s (by default
-    run_s + 0.5 s); its motion is drawn for a run of run_s."""
-    t = np.arange(0.0, run_s + 0.5 if cover_s is None else cover_s, 1.0 / RATE_HZ)
+    run_s + TRACE_MARGIN_S); its motion is drawn for a run of run_s."""
+    t = np.arange(0.0, run_s + TRACE_MARGIN_S if cover_s is None else cover_s, 1.0 / RATE_HZ)
     m = _Motion(t)
     params = {"kind": kind}
     parts = ["tremor"]
