@@ -97,11 +97,18 @@ def parse_args(argv):
     p.add_argument("--drop-fraction", type=float, default=0.0,
                    help="share of cases whose app misses frames (--drop-frames %g-%g; default 0: the draws of "
                         "earlier rounds)" % DROP_RANGE)
+    p.add_argument("--motions", default=",".join(stress_motion.KINDS),
+                   help="motion kinds to draw from, in turn (" + ",".join(stress_motion.KINDS) + "; opt-in: " +
+                   ",".join(stress_motion.OPT_IN_KINDS) + ")")
     p.add_argument("--generate-only", action="store_true", help="write pictures and traces, run nothing")
     args = p.parse_args(argv)
     unknown = [k for k in args.pictures.split(",") if k not in stress_pictures.KINDS]
     if unknown or not args.pictures:
         p.error(f"--pictures: unknown kind(s) {','.join(unknown)}; the kinds: {','.join(stress_pictures.KINDS)}")
+    motion_kinds = stress_motion.KINDS + stress_motion.OPT_IN_KINDS
+    unknown = [k for k in args.motions.split(",") if k not in motion_kinds]
+    if unknown or not args.motions:
+        p.error(f"--motions: unknown kind(s) {','.join(unknown)}; the kinds: {','.join(motion_kinds)}")
     return args
 
 
@@ -109,7 +116,7 @@ def draw_case(seed, index, args):
     """Everything about case `index`: its own Generator, so cases do not depend on each other."""
     rng = np.random.default_rng([seed, index])
     picture_kinds = [k for k in stress_pictures.KINDS if k in args.pictures.split(",")]  # in KINDS's order
-    motion_kinds = stress_motion.KINDS
+    motion_kinds = [k for k in stress_motion.KINDS + stress_motion.OPT_IN_KINDS if k in args.motions.split(",")]
     # Stratified: the kinds take turns (offset per seed), the rest is drawn.
     picture = picture_kinds[(index + seed) % len(picture_kinds)]
     motion = motion_kinds[(index // len(stress_pictures.KINDS) + index + 3 * seed) % len(motion_kinds)]
@@ -322,7 +329,8 @@ def describe_picture(case):
 def describe_motion(case):
     p = case["motion_params"]
     short = {"tremor_rms_deg": "tr", "drift_deg_s": "dr", "sway_hz": "sw", "pursuit_deg_s": "pu",
-             "saccade_deg": "sa", "turn_peak_deg_s": "tu"}
+             "saccade_deg": "sa", "turn_peak_deg_s": "tu", "gesture_pp_deg": "ge", "gesture_hz": "hz",
+             "dodge_cm": "do", "dodge_peak_m_s": "v"}
     text = case["motion_kind"] + "(" + ",".join(f"{s}={p[k]}" for k, s in short.items() if k in p) + ")"
     return text + ("+" + case["locomotion"] if case.get("locomotion") else "") + \
         (f"+drop{case['drop']:g}" if case.get("drop", 0.0) > 0 else "")

@@ -22,6 +22,10 @@ Ranges and where they come from (each component's docstring says more):
            Carpenter 1988, "Movements of the Eyes"), minimum-jerk profile, at a random time.
   turn     10-60 deg at a peak speed of 50-300 deg/s (head gaze shifts: Zangemeister et al. 1981,
            Exp Neurol 71:76), minimum-jerk, then hold.
+Opt-in kinds (round 40; stress.py --motions; not among the kinds drawn by default, so that earlier seeds
+draw what they drew), ranges assumed rather than taken from a measurement (their docstrings say why):
+  gesture  a nod (pitch) or a shake (yaw): 1-3 Hz, 2-20 deg peak to peak, 1.5-4 cycles.
+  dodge    a game's dodge or duck: the head out 10-50 cm sideways or 10-40 cm down and back, minimum-jerk.
 """
 
 import numpy as np
@@ -168,10 +172,47 @@ def turn(m, rng, run_s):
     return {"turn_deg": round(size, 1), "turn_peak_deg_s": round(peak, 1), "turn_s": round(start, 3)}
 
 
+def gesture(m, rng, run_s):
+    """A nod (about the pitch axis) or a shake (yaw): a sine of 1-3 Hz and 2-20 deg peak to peak under a
+    sin^2 envelope (it starts and ends at rest), 1.5-4 cycles from 0.1-0.4 of the run, shortened to end
+    by 0.95 of it. Assumed ranges, chosen to reach between the corpus's sway (0.25-0.35 Hz) and its
+    turns: the peak speed pi f pp reaches about 190 deg/s, and the head reverses every 1/(2f) s."""
+    axis = 0 if rng.uniform() < 0.5 else 1
+    f, pp = rng.uniform(1.0, 3.0), _log_uniform(rng, 2.0, 20.0)
+    start = rng.uniform(0.1, 0.4) * run_s
+    duration = min(rng.uniform(1.5, 4.0) / f, 0.95 * run_s - start)
+    tau = (m.t - start) / duration
+    envelope = np.where((tau >= 0.0) & (tau <= 1.0), np.sin(np.pi * np.clip(tau, 0.0, 1.0)) ** 2, 0.0)
+    m.small_deg[:, axis] += 0.5 * pp * np.sin(2 * np.pi * f * (m.t - start)) * envelope
+    return {"gesture": "nod" if axis == 0 else "shake", "gesture_hz": round(f, 3), "gesture_pp_deg": round(pp, 2),
+            "gesture_s": round(start, 3), "gesture_end_s": round(start + duration, 3)}
+
+
+def dodge(m, rng, run_s):
+    """A dodge (sideways, 10-50 cm) or a duck (down, 10-40 cm), as games with obstacles ask of a player: out
+    in 0.25-0.5 s, held 0.1-0.4 s, back in 0.25-0.5 s, each minimum-jerk, from 0.1-0.3 of the run (a short run
+    holds only its start). Assumed ranges: a lean of the torso and a squat's first part; the peak speed
+    1.875 amount / duration reaches 3.75 m/s, a translation no scene of the corpus has (lean: 10-20 cm
+    over 1-2 s)."""
+    duck = rng.uniform() < 0.5
+    amount = rng.uniform(0.10, 0.40) if duck else rng.uniform(0.10, 0.50) * (1.0 if rng.uniform() < 0.5 else -1.0)
+    out_s, hold_s, back_s = rng.uniform(0.25, 0.5), rng.uniform(0.1, 0.4), rng.uniform(0.25, 0.5)
+    start = rng.uniform(0.1, 0.3) * run_s
+    t = m.t - start
+    offset = _minimum_jerk(t / out_s) - _minimum_jerk((t - out_s - hold_s) / back_s)
+    m.translation[:, 1 if duck else 0] += (-amount if duck else amount) * offset
+    return {"dodge": "duck" if duck else "side", "dodge_cm": round(100 * amount, 1),
+            "dodge_peak_m_s": round(1.875 * abs(amount) / min(out_s, back_s), 2), "dodge_s": round(start, 3)}
+
+
 COMPONENTS = {"tremor": tremor, "drift": drift, "sway": sway, "pursuit": pursuit, "saccade": saccade, "turn": turn}
 # A trace kind: its main component; every kind carries tremor (the physiological baseline), "mix"
 # two or three of the others on top of it.
 KINDS = ["tremor", "drift", "sway", "pursuit", "saccade", "turn", "mix"]
+# Round 40: kinds drawn only when asked for (stress.py --motions), each its component on top of tremor; "mix"
+# never takes them, so that the default kinds draw what they drew.
+OPT_IN_COMPONENTS = {"gesture": gesture, "dodge": dodge}
+OPT_IN_KINDS = list(OPT_IN_COMPONENTS)
 
 
 def make_trace(kind, rng, run_s, cover_s=None):
@@ -187,7 +228,7 @@ def make_trace(kind, rng, run_s, cover_s=None):
     elif kind != "tremor":
         parts.append(kind)
     for part in parts:
-        params.update(COMPONENTS[part](m, rng, run_s))
+        params.update({**COMPONENTS, **OPT_IN_COMPONENTS}[part](m, rng, run_s))
     q = _from_rotation_vector(np.radians(m.small_deg))
     for axis, angle in m.turns:
         q = _qmul(_from_rotation_vector(angle[:, None] * axis), q)

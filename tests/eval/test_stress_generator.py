@@ -5,7 +5,9 @@ Each check is written from the definition of the stressor, not from the generato
 determinism; a trace's angular velocity integrates to its own orientations (as imu::loadTrace
 integrates wx,wy,wz); tremor power lies in the 8-12 Hz band at the drawn RMS; a microsaccade
 moves the head by its drawn size; a turn peaks at its drawn speed; power-law noise has the drawn
-spectral slope; a sine grating has the drawn frequency in cycles per screen pixel.
+spectral slope; a sine grating has the drawn frequency in cycles per screen pixel; a nod or shake
+oscillates at its drawn frequency and size about its own axis; a dodge moves the eyes by its drawn amount
+and back.
 usage: test_stress_generator.py EVAL_DIR"""
 import sys
 from pathlib import Path
@@ -55,7 +57,7 @@ for kind in sp.KINDS:
     c, _ = sp.make_picture(kind, rng(2), 96)
     assert a.shape == (sp.picture_size(96)[1], sp.picture_size(96)[0], 3) and a.dtype == np.uint8, kind
     assert np.array_equal(a, b) and not np.array_equal(a, c), kind
-for kind in sm.KINDS:
+for kind in sm.KINDS + sm.OPT_IN_KINDS:
     a, pa = sm.make_trace(kind, rng(3), 1.2)
     b, pb = sm.make_trace(kind, rng(3), 1.2)
     assert np.array_equal(a, b) and pa == pb, kind
@@ -183,4 +185,67 @@ for i in range(40):
     else:
         assert "--drop-frames" not in command, command
 assert 10 <= len(drops) <= 30, len(drops)  # 20 expected; about 3 standard deviations either side
+
+# 9. Round 40's opt-in kinds. A nod or shake: the angle about its axis (small angles: the rotation vector's
+#    component), tremor filtered out below 6 Hz, rests before and after its window, has its strongest frequency
+#    at the drawn one and a peak to peak of at most the drawn size and more than half of it (sin^2 envelope);
+#    the other axis stays at tremor's size.
+def lowpass(x, hz):
+    spectrum = np.fft.rfft(x)
+    spectrum[np.fft.rfftfreq(len(x), 1 / sm.RATE_HZ) > hz] = 0.0
+    return np.fft.irfft(spectrum, len(x))
+
+
+seen = set()
+for i in range(60, 72):
+    rows, p = sm.make_trace("gesture", rng(i), 2.4)
+    seen.add(p["gesture"])
+    axis = 0 if p["gesture"] == "nod" else 1
+    angles = np.degrees(2 * rows[:, 2:5] * np.sign(rows[:, 1:2]))
+    slow = lowpass(angles[:, axis] - angles[:, axis].mean(), 6.0)
+    t = rows[:, 0]
+    inside = (t >= p["gesture_s"]) & (t <= p["gesture_end_s"])
+    rest = slow[(t < p["gesture_s"] - 0.05) | ((t > p["gesture_end_s"] + 0.05) & (t < 2.4))]
+    assert np.ptp(rest) < 0.05 * p["gesture_pp_deg"], (np.ptp(rest), p)
+    window = slow[inside] - slow[inside].mean()
+    padded = np.zeros(8 * len(window))
+    padded[: len(window)] = window
+    f = np.fft.rfftfreq(len(padded), 1 / sm.RATE_HZ)
+    strongest = f[np.argmax(np.abs(np.fft.rfft(padded)))]
+    assert abs(strongest - p["gesture_hz"]) < 1.0 / (p["gesture_end_s"] - p["gesture_s"]), (strongest, p)
+    assert 0.5 * p["gesture_pp_deg"] < np.ptp(slow[inside]) <= 1.01 * p["gesture_pp_deg"], (np.ptp(slow[inside]), p)
+    other = lowpass(angles[:, 1 - axis] - angles[:, 1 - axis].mean(), 6.0)
+    assert np.ptp(other) < 0.05 * p["gesture_pp_deg"], (np.ptp(other), p)
+assert seen == {"nod", "shake"}, seen
+#    A dodge or duck moves the eyes by the drawn amount along its axis (x sideways, y down) and back, at
+#    about the drawn peak speed; the neck model's share of the tremor is millimetres.
+seen = set()
+for i in range(72, 84):
+    rows, p = sm.make_trace("dodge", rng(i), 3.0)  # long enough to hold the whole dodge
+    seen.add(p["dodge"])
+    along = rows[:, 8] if p["dodge"] == "side" else -rows[:, 9]
+    peak = along[np.argmax(np.abs(along))]
+    assert abs(peak - p["dodge_cm"] / 100) < 0.005, (peak, p)
+    assert abs(along[-1]) < 0.005 and abs(along[0]) < 0.005, (along[0], along[-1], p)
+    speed = np.abs(np.gradient(along, 1 / sm.RATE_HZ)).max()
+    assert abs(speed - p["dodge_peak_m_s"]) < 0.05 * p["dodge_peak_m_s"] + 0.05, (speed, p)
+assert seen == {"side", "duck"}, seen
+# 10. --motions: the kinds take turns among those named, the opt-in ones only when named; without it the
+#     default kinds take their turns as before (earlier seeds draw what they drew).
+default_kinds = [stress.draw_case(61, i, every)["motion_kind"] for i in range(40)]
+assert set(default_kinds) == set(sm.KINDS), default_kinds
+named = stress.parse_args(["--eval", "x", "--out", "y", "--motions", ",".join(sm.KINDS)])
+assert [stress.draw_case(61, i, named)["motion_kind"] for i in range(40)] == default_kinds
+opted = stress.parse_args(["--eval", "x", "--out", "y", "--motions", "dodge,gesture"])
+drawn = [stress.draw_case(61, i, opted) for i in range(8)]
+assert set(c["motion_kind"] for c in drawn) == set(sm.OPT_IN_KINDS), drawn
+assert {k: v for k, v in drawn[3].items() if k not in ("motion_kind", "rng")} == \
+    {k: v for k, v in stress.draw_case(61, 3, every).items() if k not in ("motion_kind", "rng")}
+with contextlib.redirect_stderr(io.StringIO()) as err:
+    try:
+        stress.parse_args(["--eval", "x", "--out", "y", "--motions", "nod"])
+        raise AssertionError("--motions nod accepted")
+    except SystemExit as e:
+        assert e.code == 2
+assert "unknown kind(s) nod" in err.getvalue(), err.getvalue()
 print("stress generator OK")
