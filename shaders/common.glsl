@@ -380,19 +380,24 @@ vec3 codesPerLinear(vec3 c, vec3 code) {
 // takes a move of 1 - hold). Round 21: the move is measured in linear light, in codes through the
 // encoding's slope at c (its error is second order: up to 1 % of half a code, near code 20), not by encoding
 // `before` too (three pows, about 0.45x the copy on lavapipe). The shown codes are written exactly
-// (k / 255 stores as k).
+// (k / 255 stores as k). Round 40 (switch bit 12): the output is this frame's codes image itself, which the host
+// copies to the app's image, so the codes are stored once, in the app's channel order (as last frame's were:
+// the host drops them where the order changed, PassUniforms::shownValid).
 void storeHeldOutput(ivec2 p, vec3 c, float alpha, bool shownBefore, vec2 from, vec3 before, float hold) {
+  bool outputIsShown = (kSteadyBoxSwitches & 4096) != 0;  // not const: see temporal.comp's main
+  bool shownSwapped = outputIsShown && kSwapRB;
   c = clamp(c, 0.0, 1.0);
   const vec3 code = outputCodes(c);
   vec3 shown = round(code);
   if (shownBefore) {
-    const vec3 last = round(255.0 * texelFetch(uShownIn, clamp(ivec2(floor(from)), ivec2(0), P.src1Size - 1), 0).rgb);
+    const vec4 lastTexel = texelFetch(uShownIn, clamp(ivec2(floor(from)), ivec2(0), P.src1Size - 1), 0);
+    const vec3 last = round(255.0 * (shownSwapped ? lastTexel.bgr : lastTexel.rgb));
     const bvec3 nearLast = lessThanEqual(abs(code - last), vec3(0.5 + hold));
     const vec3 movedCodes = abs(c - clamp(before, 0.0, 1.0)) * codesPerLinear(c, code);
     const bvec3 barelyMoved = lessThanEqual(movedCodes, vec3(0.5));
     shown = mix(shown, last, vec3(nearLast) * vec3(barelyMoved));
   }
-  imageStore(uShownOut, p, vec4(shown * (1.0 / 255.0), 1.0));
+  if (!outputIsShown) imageStore(uShownOut, p, vec4(shown * (1.0 / 255.0), 1.0));
   storeOutputTexel(p, vec4(shown * (1.0 / 255.0), alpha));
 }
 

@@ -105,6 +105,9 @@ struct Filter::Impl {
   // One dispatch: its pipeline, uniforms and descriptor set. True when recorded, or skipped only
   // because its pipeline is still compiling.
   bool record(Recording& rec, const detail::PassDispatch& d, std::string* error);
+  // Whether the passes (all but fxaa) run 4x4 pixels an invocation: Params::invocationBlock, by the device.
+  bool blocksPixels() const;
+  bool stagesHeldOutput(const detail::FramePlan& plan, uint32_t e, bool directStorage) const;
   // Steady's gain probes of both eyes (Params::steadyGainCompensation), before its temporal passes.
   bool recordProbes(Recording& rec, const detail::PassContext& c, bool probesGain, std::string* error);
 };

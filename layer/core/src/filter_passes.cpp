@@ -124,9 +124,15 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
   // Round 20: the 8-bit output keeps last frame's codes (storeHeldOutput); a float output is not rounded.
   if (writesHeldOutput(c, e)) {
     d.io.shownIn = Binding{eye.shown[c.historyWrite ^ 1u].view.get(), VK_IMAGE_LAYOUT_GENERAL, true};
-    d.io.shownOut = eye.shown[c.historyWrite].view.get();
+    // Round 40: the output may be this frame's codes image itself (Target::holdsShownCodes, in the app's
+    // channel order), copied to the app's image after the pass.
+    const Target& t = c.plan.targets[e];
+    d.io.outputIsShown = t.holdsShownCodes;
+    if (!t.holdsShownCodes) d.io.shownOut = eye.shown[c.historyWrite].view.get();
     u.steadyOutputHold = params.steadyOutputHold;
-    u.shownValid = eye.valid && eye.shownValid ? 1 : 0;  // last frame's codes were written by this pass
+    // Last frame's codes were written by this pass, in the channel order this frame reads them in.
+    const bool bgra = t.holdsShownCodes && t.swap;
+    u.shownValid = eye.valid && eye.shownValid && eye.shownBgra == bgra ? 1 : 0;
   }
   // Seed 003 Eq. 1: the past samples through poses interpolated between the previous and this
   // one, weighted by W(d_i) of Eq. 2 (hmtaa, hybrid; steady when steadyInterpolated, one sample).
@@ -279,7 +285,9 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
                 (sw.probe ? 128 : 0) | (params.steadyGainCompensation ? 64 : 0) |
                 (params.steadyGainCompensation && !sw.probe && params.steadyGainRelightsAdmitted ? 256 : 0) |
                 // Round 20: the 8-bit output held (storeHeldOutput), where the pass binds the codes.
-                (d.io.shownOut != VK_NULL_HANDLE ? 512 : 0) |
+                (d.io.shownOut != VK_NULL_HANDLE || d.io.outputIsShown ? 512 : 0) |
+                // Round 40: the output is the held codes' image (the pass stores them once; the host copies).
+                (d.io.outputIsShown ? 4096 : 0) |
                 // Round 26: the blur guard traded against the render's noise (per axis, with bit 8).
                 (params.steadyBlurNoiseTrade && params.steadyHistoryBlurPerAxis ? 1024 : 0) |
                 // Round 31: a frame the pose does not explain starts afresh (the probe's blocks, the pass).

@@ -57,6 +57,7 @@ struct PassIo {
   Binding appInput;                         // 7: the app's input of this eye (every output's alpha)
   Binding shownIn;                          // 10: the codes the output showed last frame (hold)
   VkImageView shownOut = VK_NULL_HANDLE;    // 11: the codes it shows this frame
+  bool outputIsShown = false;               // 5 is the codes' image (Target::holdsShownCodes); 11 unused
 };
 
 // One dispatch, ready to record.
@@ -73,6 +74,7 @@ struct Target {
   VkImageView view = VK_NULL_HANDLE;
   OutFmt fmt = kOut8;
   OwnedImage* scratch = nullptr;  // non-null: write here, then vkCmdCopyImage to the output
+  bool holdsShownCodes = false;   // scratch is the eye's image of this frame's held codes (stagesHeldOutput)
   bool srgb = false;
   bool swap = false;
 };

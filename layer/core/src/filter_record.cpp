@@ -33,12 +33,10 @@ using detail::PassIo;
 using detail::passSpecKey;
 using detail::Slot;
 
-namespace {
-
 // Blocks pay on a CPU device for every pass they apply to (measured with steadyxr-bench --block
 // on lavapipe at 1024x1024: the copy pass 15-19 % faster, hmtaa 39-47 against 49-50 ms, the 3x3
 // passes most of all), and not on a GPU, where one pixel per invocation keeps accesses coalesced.
-bool blockPixels(const Params& params, const VulkanContext& ctx) {
+bool Filter::Impl::blocksPixels() const {
   switch (params.invocationBlock) {
     case InvocationBlock::OnePixel:
       return false;
@@ -49,8 +47,6 @@ bool blockPixels(const Params& params, const VulkanContext& ctx) {
   }
   return ctx.isCpuDevice();
 }
-
-}  // namespace
 
 Slot& Filter::Impl::beginRecording() {
   Slot& s = slots[frameCounter % kSlots];
@@ -160,7 +156,7 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
   const uint32_t groupX = cpuDevice ? kCpuGroupX : kGpuGroupX;
   const uint32_t groupY = cpuDevice ? kCpuGroupY : kGpuGroupY;
   // fxaa's reads follow the edges; the probe has blocks of its own on every device (probeBlockPx).
-  const bool blocked = d.switches.probe || (d.pass != Pass::Fxaa && blockPixels(params, ctx));
+  const bool blocked = d.switches.probe || (d.pass != Pass::Fxaa && blocksPixels());
   const VkPipeline p = pipelines.get(d.pass, d.fmt, passSpecKey(d, params, blocked, groupX, groupY), error);
   if (!p && pipelines.compiling)
     return true;  // record nothing, but go on: every pipeline of the frame starts

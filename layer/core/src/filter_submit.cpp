@@ -75,9 +75,10 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   std::vector<VkImageMemoryBarrier> backToFinal = transitionIn(s.cmd, frame, output, plan);
   timestamp(s, 0);
   bool ok = recordPasses(s, frame, output, plan, error);  // timestamps 1 and 2
+  if (pipelines.compiling) ok = false;  // no dispatch was recorded for the passes still compiling
+  // Before the copy out: a staged output is copied to the app's image only where its pass ran.
   transitionOut(s.cmd, output, plan, ok, std::move(backToFinal));
   timestamp(s, 3);
-  if (pipelines.compiling) ok = false;  // no dispatch was recorded for the passes still compiling
   if (!submitRecording(s, signal, error)) return false;
 
   if (!ok) {
@@ -183,9 +184,11 @@ bool Filter::Impl::prepareEyes(const StereoFrame& frame, FramePlan& plan, std::s
         if (!createImage(h, capacity, histFormat, usage, error)) return false;
         h.clearOnInit = true;
       }
-      for (auto& sh : eye.shown) {
+      for (auto& sh : eye.shown) {  // also the output's staging image (stagesHeldOutput)
         sh = OwnedImage{};
-        if (held && !createImage(sh, capacity, VK_FORMAT_R8G8B8A8_UNORM, usage, error)) return false;
+        if (held && !createImage(sh, capacity, VK_FORMAT_R8G8B8A8_UNORM,
+                                 usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, error))
+          return false;
         sh.clearOnInit = true;
       }
       for (auto& sc : eye.scratch) sc = OwnedImage{};
@@ -225,6 +228,17 @@ bool Filter::Impl::prepareEyes(const StereoFrame& frame, FramePlan& plan, std::s
   return true;
 }
 
+// Round 40: where the output is held (writesHeldOutput's conditions), its codes' image can be the output's
+// staging image: the pass stores the codes once and a transfer copies them to the app's image. On a CPU
+// device (blocksPixels) that pays: lavapipe's shader store of an 8-bit pixel costs about 0.6 of the copy
+// pass, its transfer copy a fraction of that (steadyxr-bench: README, Cost). A GPU stores to the app's image
+// itself, where the copy would add a read of every pixel, unless that image takes no storage writes and needs
+// a copy anyway.
+bool Filter::Impl::stagesHeldOutput(const detail::FramePlan& plan, uint32_t e, bool directStorage) const {
+  return detail::outputHeld(params) && plan.temporal && !plan.stereo &&
+         plan.targets[e].fmt == detail::kOut8 && eyes[e].shown[0].image && (blocksPixels() || !directStorage);
+}
+
 bool Filter::Impl::bindTargets(const StereoFrame& frame, const StereoOutput& output, FramePlan& plan,
                                std::string* error) {
   const uint32_t n = plan.viewCount;
@@ -240,8 +254,15 @@ bool Filter::Impl::bindTargets(const StereoFrame& frame, const StereoOutput& out
     VkFormatProperties fp;
     vkGetPhysicalDeviceFormatProperties(ctx.physicalDevice(), viewFormat, &fp);
     const bool storageOk = (fp.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT) != 0;
-    if ((out.usage & VK_IMAGE_USAGE_STORAGE_BIT) && storageOk &&
-        (out.format == viewFormat || out.mutableFormat)) {
+    const bool direct = (out.usage & VK_IMAGE_USAGE_STORAGE_BIT) && storageOk &&
+                        (out.format == viewFormat || out.mutableFormat);
+    if (stagesHeldOutput(plan, e, direct) && (out.usage & VK_IMAGE_USAGE_TRANSFER_DST_BIT)) {
+      // Round 40: the pass writes the held output once, into its codes' image, and a copy takes it to the
+      // app's image (the codes in the app's channel order: codesBgra).
+      t.scratch = &eyes[e].shown[historyIndex];
+      t.holdsShownCodes = true;
+      t.view = t.scratch->view.get();
+    } else if (direct) {
       t.view = view(out.image, viewFormat, out.arrayLayer, VK_IMAGE_ASPECT_COLOR_BIT, error);
       if (!t.view) return false;
     } else if (out.usage & VK_IMAGE_USAGE_TRANSFER_DST_BIT) {
@@ -293,7 +314,10 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
       !params.steadyNoiseEstimate ? params.steadyNoiseVariance : noiseTracker.variance().value_or(0.0f);
   const PassContext c{
       frame, output, params, plan, eyes, historyIndex, static_cast<uint32_t>(frameCounter), noiseVariance};
-  for (uint32_t e = 0; e < plan.viewCount; ++e) eyes[e].shownWritten = detail::writesHeldOutput(c, e);
+  for (uint32_t e = 0; e < plan.viewCount; ++e) {
+    eyes[e].shownWritten = detail::writesHeldOutput(c, e);
+    eyes[e].shownBgraWritten = plan.targets[e].holdsShownCodes && plan.targets[e].swap;
+  }
   s.noiseSampled = steady && plan.firstStage && params.steadyNoiseEstimate;
   s.gainProbed = false;
   const bool probesGain = steady && plan.firstStage && params.steadyGainCompensation;
@@ -386,6 +410,7 @@ void Filter::Impl::advanceEyes(const StereoFrame& frame, const FramePlan& plan) 
     eye.lastSize = size;
     eye.valid = plan.temporal && plan.poseOk[e];
     eye.shownValid = eye.shownWritten;
+    eye.shownBgra = eye.shownBgraWritten;
     eye.written[historyIndex] = size;
     if (plan.poseOk[e]) {
       eye.prevPose = frame.views[e].pose;
