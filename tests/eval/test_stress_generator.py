@@ -133,6 +133,18 @@ import io  # noqa: E402
 
 import stress  # noqa: E402
 
+
+def expect_refused(flags, message):
+    """stress.py's arguments with these flags stop with exit status 2 and this message."""
+    with contextlib.redirect_stderr(io.StringIO()) as err:
+        try:
+            stress.parse_args(["--eval", "x", "--out", "y"] + flags)
+            raise AssertionError(f"{flags} accepted")
+        except SystemExit as e:
+            assert e.code == 2
+    assert message in err.getvalue(), err.getvalue()
+
+
 every, some = stress.parse_args(["--eval", "x", "--out", "y"]), stress.parse_args(
     ["--eval", "x", "--out", "y", "--pictures", "text,lines"])
 drawn = [stress.draw_case(61, i, every)["picture_kind"] for i in range(len(sp.KINDS))]
@@ -142,13 +154,7 @@ assert [c["picture_kind"] for c in named] == ["text", "lines"] * 3, named  # KIN
 plain = stress.draw_case(61, 4, every)
 assert {k: v for k, v in named[4].items() if k not in ("picture_kind", "rng")} == \
     {k: v for k, v in plain.items() if k not in ("picture_kind", "rng")}
-with contextlib.redirect_stderr(io.StringIO()) as err:
-    try:
-        stress.parse_args(["--eval", "x", "--out", "y", "--pictures", "lines,photos"])
-        raise AssertionError("--pictures photos accepted")
-    except SystemExit as e:
-        assert e.code == 2
-assert "unknown kind(s) photos" in err.getvalue(), err.getvalue()
+expect_refused(["--pictures", "lines,photos"], "unknown kind(s) photos")
 # --locomotion-fraction: every drawn rig motion is one the eval reads, within a game's settings, and
 # it changes nothing else of a case (earlier seeds draw what they drew); a walk ahead stops 0.5 m short
 # of the picture at 1.5 m over the half of the run the stick is held (eval/locomotion.h).
@@ -241,11 +247,5 @@ drawn = [stress.draw_case(61, i, opted) for i in range(8)]
 assert set(c["motion_kind"] for c in drawn) == set(sm.OPT_IN_KINDS), drawn
 assert {k: v for k, v in drawn[3].items() if k not in ("motion_kind", "rng")} == \
     {k: v for k, v in stress.draw_case(61, 3, every).items() if k not in ("motion_kind", "rng")}
-with contextlib.redirect_stderr(io.StringIO()) as err:
-    try:
-        stress.parse_args(["--eval", "x", "--out", "y", "--motions", "nod"])
-        raise AssertionError("--motions nod accepted")
-    except SystemExit as e:
-        assert e.code == 2
-assert "unknown kind(s) nod" in err.getvalue(), err.getvalue()
+expect_refused(["--motions", "nod"], "unknown kind(s) nod")
 print("stress generator OK")
