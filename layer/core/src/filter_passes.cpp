@@ -102,9 +102,13 @@ PassDispatch fxaaPass(const PassContext& c, uint32_t e) {
   return firstStage(c, e, Pass::Fxaa);
 }
 
+bool writesHeldOutput(const Params& params, const FramePlan& plan, const EyeState& eye, uint32_t e) {
+  return outputHeld(params) && plan.temporal && eye.shown[0].image && !plan.stereo &&
+         plan.targets[e].fmt == kOut8;
+}
+
 bool writesHeldOutput(const PassContext& c, uint32_t e) {
-  return outputHeld(c.params) && c.plan.temporal && c.eyes[e].shown[0].image && !c.plan.stereo &&
-         c.plan.targets[e].fmt == kOut8;
+  return writesHeldOutput(c.params, c.plan, c.eyes[e], e);
 }
 
 PassDispatch temporalPass(const PassContext& c, uint32_t e) {
@@ -131,8 +135,7 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
     if (!t.holdsShownCodes) d.io.shownOut = eye.shown[c.historyWrite].view.get();
     u.steadyOutputHold = params.steadyOutputHold;
     // Last frame's codes were written by this pass, in the channel order this frame reads them in.
-    const bool bgra = t.holdsShownCodes && t.swap;
-    u.shownValid = eye.valid && eye.shownValid && eye.shownBgra == bgra ? 1 : 0;
+    u.shownValid = eye.valid && eye.shownValid && eye.shownBgra == t.codesBgra() ? 1 : 0;
   }
   // Seed 003 Eq. 1: the past samples through poses interpolated between the previous and this
   // one, weighted by W(d_i) of Eq. 2 (hmtaa, hybrid; steady when steadyInterpolated, one sample).

@@ -77,6 +77,8 @@ struct Target {
   bool holdsShownCodes = false;   // scratch is the eye's image of this frame's held codes (stagesHeldOutput)
   bool srgb = false;
   bool swap = false;
+  // The held codes it writes are in BGRA order (staged for a BGRA image: EyeState::shownBgra).
+  bool codesBgra() const { return holdsShownCodes && swap; }
 };
 
 // What submit decided about this frame before recording: the passes to run, and per eye its
@@ -114,6 +116,8 @@ PassDispatch fxaaPass(const PassContext& c, uint32_t e);
 PassDispatch temporalPass(const PassContext& c, uint32_t e);
 // The temporal pass writes eye e's 8-bit output with steadyOutputHold (and the codes it shows).
 bool writesHeldOutput(const PassContext& c, uint32_t e);
+// The same, before the pass's context exists (bindTargets): plan.targets[e].fmt is set.
+bool writesHeldOutput(const Params& params, const FramePlan& plan, const EyeState& eye, uint32_t e);
 // Steady's probe of eye e: before the temporal passes, both eyes. It samples the frame's gain
 // (Params::steadyGainCompensation) and the render's noise (Params::steadyNoiseEstimate) into the records.
 PassDispatch probePass(const PassContext& c, uint32_t e);

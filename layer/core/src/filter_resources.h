@@ -73,10 +73,9 @@ struct EyeState {
   std::array<OwnedImage, 2> scratch;  // intermediates for outputs without storage: [kOut8], [kOut16]
   std::array<OwnedImage, 2> shown;    // ping-pong with history, RGBA8: the 8-bit output's codes (hold)
   bool valid = false;
-  bool shownWritten = false;      // this frame's temporal pass writes shown[] (the stereo pass does not)
-  bool shownValid = false;        // it did last frame
-  bool shownBgraWritten = false;  // this frame's codes in BGRA order (the output's staging for a BGRA image)
-  bool shownBgra = false;         // last frame's were
+  bool shownWritten = false;  // this frame's temporal pass writes shown[] (the stereo pass does not)
+  bool shownValid = false;    // it did last frame
+  bool shownBgra = false;     // they were in BGRA order (the output's staging for a BGRA image)
   Pose prevPose;
   Fov prevFov;
   // The internal images' extent. Any rect that fits keeps the history (an app's dynamic resolution): each

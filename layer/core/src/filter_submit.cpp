@@ -228,15 +228,14 @@ bool Filter::Impl::prepareEyes(const StereoFrame& frame, FramePlan& plan, std::s
   return true;
 }
 
-// Round 40: where the output is held (writesHeldOutput's conditions), its codes' image can be the output's
+// Round 40: where the output is held (writesHeldOutput), its codes' image can be the output's
 // staging image: the pass stores the codes once and a transfer copies them to the app's image. On a CPU
 // device (blocksPixels) that pays: lavapipe's shader store of an 8-bit pixel costs about 0.6 of the copy
 // pass, its transfer copy a fraction of that (steadyxr-bench: README, Cost). A GPU stores to the app's image
 // itself, where the copy would add a read of every pixel, unless that image takes no storage writes and needs
 // a copy anyway.
 bool Filter::Impl::stagesHeldOutput(const detail::FramePlan& plan, uint32_t e, bool directStorage) const {
-  return detail::outputHeld(params) && plan.temporal && !plan.stereo &&
-         plan.targets[e].fmt == detail::kOut8 && eyes[e].shown[0].image && (blocksPixels() || !directStorage);
+  return detail::writesHeldOutput(params, plan, eyes[e], e) && (blocksPixels() || !directStorage);
 }
 
 bool Filter::Impl::bindTargets(const StereoFrame& frame, const StereoOutput& output, FramePlan& plan,
@@ -258,7 +257,7 @@ bool Filter::Impl::bindTargets(const StereoFrame& frame, const StereoOutput& out
                         (out.format == viewFormat || out.mutableFormat);
     if (stagesHeldOutput(plan, e, direct) && (out.usage & VK_IMAGE_USAGE_TRANSFER_DST_BIT)) {
       // Round 40: the pass writes the held output once, into its codes' image, and a copy takes it to the
-      // app's image (the codes in the app's channel order: codesBgra).
+      // app's image (the codes in the app's channel order: Target::codesBgra).
       t.scratch = &eyes[e].shown[historyIndex];
       t.holdsShownCodes = true;
       t.view = t.scratch->view.get();
@@ -314,10 +313,7 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
       !params.steadyNoiseEstimate ? params.steadyNoiseVariance : noiseTracker.variance().value_or(0.0f);
   const PassContext c{
       frame, output, params, plan, eyes, historyIndex, static_cast<uint32_t>(frameCounter), noiseVariance};
-  for (uint32_t e = 0; e < plan.viewCount; ++e) {
-    eyes[e].shownWritten = detail::writesHeldOutput(c, e);
-    eyes[e].shownBgraWritten = plan.targets[e].holdsShownCodes && plan.targets[e].swap;
-  }
+  for (uint32_t e = 0; e < plan.viewCount; ++e) eyes[e].shownWritten = detail::writesHeldOutput(c, e);
   s.noiseSampled = steady && plan.firstStage && params.steadyNoiseEstimate;
   s.gainProbed = false;
   const bool probesGain = steady && plan.firstStage && params.steadyGainCompensation;
@@ -410,7 +406,7 @@ void Filter::Impl::advanceEyes(const StereoFrame& frame, const FramePlan& plan) 
     eye.lastSize = size;
     eye.valid = plan.temporal && plan.poseOk[e];
     eye.shownValid = eye.shownWritten;
-    eye.shownBgra = eye.shownBgraWritten;
+    eye.shownBgra = plan.targets[e].codesBgra();
     eye.written[historyIndex] = size;
     if (plan.poseOk[e]) {
       eye.prevPose = frame.views[e].pose;
