@@ -59,7 +59,9 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        only where the box rejects the history), cut=0 (round 30's: no
                        fresh start where the pose does not explain a frame), noisevar=V (a noise variance
                        told instead; -1: the scene's own), history=16|8
-                       (the history's bits per channel) and dither=0|1 after history=8
+                       (the history's bits per channel) and dither=0|1 after history=8;
+                       autohud=1 (round 41's study: the profile hud from the frame after
+                       eval/head_locked_detector.h finds head-locked content; autohud.csv)
                        (default: all + sweeps)
   --corpus             every motion preset over the corpus pictures and scenes, translating
                        motions with and without depth; one table per motion and picture

@@ -10,6 +10,7 @@
 #include "eye_rig.h"
 #include "frame_clock.h"
 #include "frame_score.h"
+#include "head_locked_detector.h"
 #include "image.h"
 #include "locomotion.h"
 #include "metrics.h"
@@ -174,6 +175,7 @@ int runSuite(const Options& o) {
             "stereo_diff_gt,stereo_error,mtcd_display,rmse_display\n";
   // Head-locked content's own pixels (scene `hud`): RMSE per frame on the overlay mask (scene_hud.h).
   std::ofstream overlayCsv;
+  std::ofstream autoHudCsv;  // round 41's study: when the detector decided, and its epochs
   std::ofstream warpCsv(o.outDir + "/warp_errors.csv");
   warpCsv << "scenario,frame,step,extrapolation_ms,head_speed_deg_s,object_speed_m_s,mode,error_pixels,"
              "error_fraction\n";
@@ -237,6 +239,7 @@ int runSuite(const Options& o) {
     const float noiseAmplitude =
         o.noise > 0.0f ? o.noise : scene.drawsAt(start, headAt(start)).noiseAmplitude;
     for (Variant& v : variants) {
+      if (v.filter && v.autoHud) v.filter->setParams(v.params);  // the last case may have switched it
       if (v.filter && v.noiseOracle > 0.0f) {
         core::Params told = v.params;
         told.steadyNoiseVariance = v.noiseOracle * noiseAmplitude * noiseAmplitude / 3.0f;
@@ -257,6 +260,9 @@ int runSuite(const Options& o) {
     std::vector<std::optional<core::StereoFrame>> lastFrame(variants.size());
     auto active = [&](const Variant& v) { return (!v.sweep || sc.sweeps) && (!v.oracle || oracleHere); };
 
+    HeadLockedDetector headLocked;
+    const bool detects =
+        std::any_of(variants.begin(), variants.end(), [](const Variant& v) { return v.autoHud; });
     for (int f = 0; f < o.frames; ++f) {
       const double t = clock.timeOf(f);
       const HeadPose head = headAt(t);
@@ -311,6 +317,12 @@ int runSuite(const Options& o) {
         ft.depth[eye] = base[eye].depth;
       }
       ft.cams = cams;
+      // Round 41's study: the layer would read its probe's evidence after the frame, so a decision in
+      // frame f switches the profile from frame f + 1 on.
+      const bool switchToHud = detects && headLocked.decided() && headLocked.decidedFrame() == f - 1;
+      if (detects) headLocked.observe(f, {&base[0].color, &base[1].color}, trackedCams);
+      for (Variant& v : variants)
+        if (switchToHud && v.autoHud && v.filter) v.filter->setParams(hudProfileOf(v.params));
       const StereoDifference gtSd =
           stereoDifference(ft.gt[0], base[0].depth, cams[0], ft.gt[1], base[1].depth, cams[1]);
       gtStereoSum += gtSd.meanSquared;
@@ -470,6 +482,13 @@ int runSuite(const Options& o) {
       }
       progress.update(++framesDone, sc.label + " " + std::to_string(f + 1) + "/" + std::to_string(o.frames));
     }
+    if (detects) {
+      if (!autoHudCsv.is_open()) {
+        autoHudCsv.open(o.outDir + "/autohud.csv");
+        autoHudCsv << kHeadLockedCsvHeader << '\n';
+      }
+      autoHudCsv << csvEscape(sc.label) << ',' << headLockedCsvRow(headLocked) << '\n';
+    }
 
     // Cost: each method's frames back to back on the scenario's last frame. Interleaved with a
     // score of other methods, lavapipe's cache of compiled shaders (capped by instruction count)
@@ -558,6 +577,7 @@ int runSuite(const Options& o) {
   std::cout << "Outputs: " << o.outDir
             << "/results.csv, results.json, timeseries.csv, warp_errors.csv, crops/*.png"
             << (o.corpus ? ", corpus.csv" : "") << (overlayCsv.is_open() ? ", overlay.csv" : "")
+            << (autoHudCsv.is_open() ? ", autohud.csv" : "")
             << (animateLabel.empty() ? "" : ", anim/" + animateLabel + "/") << "\n";
   if (o.validation && ctx->validationMessageCount() > 0) {
     std::cerr << "steadyxr-eval: " << ctx->validationMessageCount()

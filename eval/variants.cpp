@@ -147,7 +147,9 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
         v->noiseOracle = -value;
       else
         params->steadyNoiseVariance = value;
-    } else if (key == "hold")  // round 20: the 8-bit output's hysteresis in codes beyond 1/2 (0 = rounding)
+    } else if (key == "autohud")  // round 41's study (head_locked_detector.h): switches to the profile hud
+      v->autoHud = value != 0.0f;
+    else if (key == "hold")  // round 20: the 8-bit output's hysteresis in codes beyond 1/2 (0 = rounding)
       params->steadyOutputHold = value;
     else if (key == "boxcur")
       params->steadyClipHoldsCurrent = value != 0.0f;

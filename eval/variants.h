@@ -19,6 +19,7 @@ struct Variant {
   bool jitter = false;       // rendered with the layer's Halton(2,3) jitter, un-jittered by the core
   bool oracle = false;       // the harness's CPU upper bound (oracle.h), no filter
   float noiseOracle = 0.0f;  // steady told the scene's true noise variance (noisevar=-1)
+  bool autoHud = false;      // round 41's study: the profile hud from the frame after the detector decides
   std::unique_ptr<core::Filter> filter;
 };
 

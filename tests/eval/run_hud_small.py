@@ -4,7 +4,8 @@
 Checks that the overlay stays head-locked in the eye images (its mask covers the same number of pixels
 in every frame of a sway at 20 ppd, where world-locked content would move by pixels) and covers 5-15 %
 of the image, and that the default keeps the never-worse promise on the whole image and on the
-overlay's own pixels (eval/overlay_report.py). The one-pixel world ring around the overlay is where
+overlay's own pixels (eval/overlay_report.py). Round 41's study: the sway finds the overlay and the
+switched variant (`default@autohud=1`) changes from the frame after the decision. The one-pixel world ring around the overlay is where
 the default is above none (README notes of round 7); it is reported, not asserted.
 usage: run_hud_small.py STEADYXR_EVAL OUT_DIR OVERLAY_REPORT_PY"""
 import csv
@@ -18,7 +19,7 @@ from eval_run import run_eval
 exe, out, report = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(out, ignore_errors=True)
 cmd = [exe, "--out", out, "--corpus", "--scenes", "hud", "--motions", "sway,tremor-2x", "--images", "astronaut",
-       "--resolution", "96x96", "--frames", "24", "--ppd", "20", "--methods", "none,default", "--no-progress"]
+       "--resolution", "96x96", "--frames", "24", "--ppd", "20", "--methods", "none,default,default@autohud=1", "--no-progress"]
 run_eval(cmd, tail=2000)
 
 with open(os.path.join(out, "overlay.csv"), newline="") as f:
@@ -45,4 +46,20 @@ mixed = subprocess.run([sys.executable, report, no_overlay, out, "--column", "rm
                        text=True)
 assert mixed.returncode == 0 and mixed.stdout == border.stdout, f"a folder without overlay.csv:\n{mixed.stderr}"
 assert "skipped 1 folder" in mixed.stderr, mixed.stderr
-print("ok")
+# Round 41's study (eval/head_locked_detector.h): the sway finds the overlay, and the switched variant is the
+# default's, to the bit, up to the frame after the decision, and the profile hud's from then on.
+with open(os.path.join(out, "autohud.csv"), newline="") as f:
+    decided = {r["case"]: int(r["decided_frame"]) for r in csv.DictReader(f)}
+assert set(decided) == {"hud-sway-astronaut", "hud-tremor-2x-astronaut"}, f"autohud.csv: {decided}"
+frame = decided["hud-sway-astronaut"]
+assert 0 <= frame < 22, f"the sway at 20 ppd did not find the overlay in time: {decided}"
+series = {}
+with open(os.path.join(out, "timeseries.csv"), newline="") as f:
+    for r in csv.DictReader(f):
+        if r["scenario"] == "hud-sway-astronaut":
+            series[(r["method"], int(r["frame"]))] = r["rmse"]
+for k in range(24):
+    same = series[("default", k)] == series[("default@autohud=1", k)]
+    assert same == (k <= frame), f"frame {k}: the switched variant {'equals' if same else 'differs from'} the " \
+        f"default's (decided in frame {frame}, switched from frame {frame + 1})"
+print(f"ok (the overlay found in frame {frame})")
