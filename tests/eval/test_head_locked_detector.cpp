@@ -2,10 +2,15 @@
 // texture fixed to the world's directions, a patch fixed to the screen), not from the detector's code.
 #include "head_locked_detector.h"
 
+#include "config.h"  // layer/xr/src: the layer's own config parser, for its profile hud
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include <glm/gtc/quaternion.hpp>
 
@@ -116,13 +121,22 @@ TEST(HeadLockedDetector, AHeadThatMovesLessThanTheShiftJudgesNothing) {
 }
 
 TEST(HeadLockedDetector, TheProfileIsTheLayers) {
-  // layer/xr/src/config.cpp, kHudProfile: steady_blur_budget_px2 = 0.0104, steady_clip_holds_current = 1.
-  core::Params p;
-  p.steadyNoiseEstimate = false;
-  const core::Params hud = hudProfileOf(p);
-  EXPECT_FLOAT_EQ(hud.steadyBlurBudgetPx2, 0.0104f);
-  EXPECT_TRUE(hud.steadyClipHoldsCurrent);
-  EXPECT_FALSE(hud.steadyNoiseEstimate);  // everything else kept
+  // The layer's own parser resolves `profile = hud` (layer/xr/src/config.cpp): the study's switch must set
+  // what it sets, and keep the rest.
+  std::vector<std::string> messages;
+  const layer::EnvLookup noEnvironment = [](const std::string&) -> std::optional<std::string> { return {}; };
+  const layer::Config plain = layer::resolveConfig({}, "app", noEnvironment, &messages);
+  const layer::Config hud = layer::resolveConfig(layer::parseConfigText("profile = hud\n", &messages), "app",
+                                                 noEnvironment, &messages);
+  ASSERT_TRUE(messages.empty()) << messages.front();
+  ASSERT_NE(plain.params.steadyBlurBudgetPx2, hud.params.steadyBlurBudgetPx2);  // the profile changes both
+  ASSERT_NE(plain.params.steadyClipHoldsCurrent, hud.params.steadyClipHoldsCurrent);
+  core::Params told = plain.params;
+  told.steadyNoiseEstimate = !told.steadyNoiseEstimate;
+  const core::Params switched = hudProfileOf(told);
+  EXPECT_EQ(switched.steadyBlurBudgetPx2, hud.params.steadyBlurBudgetPx2);
+  EXPECT_EQ(switched.steadyClipHoldsCurrent, hud.params.steadyClipHoldsCurrent);
+  EXPECT_EQ(switched.steadyNoiseEstimate, told.steadyNoiseEstimate);  // everything else kept
 }
 
 }  // namespace
