@@ -145,12 +145,6 @@ bool HeadLockedDetector::observe(int frame, const std::array<const Image*, 2>& i
   return decided();
 }
 
-core::Params hudProfileOf(core::Params params) {
-  params.steadyBlurBudgetPx2 = 0.0104f;
-  params.steadyClipHoldsCurrent = true;
-  return params;
-}
-
 std::string headLockedCsvRow(const HeadLockedDetector& detector) {
   int evidence = 0;
   std::ostringstream list;  // frame:head-locked/world, * where the epoch counts

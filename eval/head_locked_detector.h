@@ -69,8 +69,6 @@ class HeadLockedDetector {
   std::vector<HeadLockedEpoch> epochs_;
 };
 
-// The layer's profile hud (layer/xr/src/config.cpp, kHudProfile) over `params`.
-core::Params hudProfileOf(core::Params params);
 // autohud.csv: per case, the frame the detector decided in (-1: never) and its epochs.
 inline constexpr const char* kHeadLockedCsvHeader = "case,decided_frame,epochs,evidence_epochs,epoch_list";
 std::string headLockedCsvRow(const HeadLockedDetector& detector);  // without the case's label

@@ -175,7 +175,8 @@ int runSuite(const Options& o) {
             "stereo_diff_gt,stereo_error,mtcd_display,rmse_display\n";
   // Head-locked content's own pixels (scene `hud`): RMSE per frame on the overlay mask (scene_hud.h).
   std::ofstream overlayCsv;
-  std::ofstream autoHudCsv;  // round 41's study: when the detector decided, and its epochs
+  std::ofstream autoHudCsv;    // round 41's study: when the detector decided, and its epochs
+  std::ofstream hudSwitchCsv;  // round 42: when the filter's own head-locked switch decided
   std::ofstream warpCsv(o.outDir + "/warp_errors.csv");
   warpCsv << "scenario,frame,step,extrapolation_ms,head_speed_deg_s,object_speed_m_s,mode,error_pixels,"
              "error_fraction\n";
@@ -261,6 +262,7 @@ int runSuite(const Options& o) {
     auto active = [&](const Variant& v) { return (!v.sweep || sc.sweeps) && (!v.oracle || oracleHere); };
 
     HeadLockedDetector headLocked;
+    std::vector<int> hudSwitchedAfter(variants.size(), -1);  // round 42: the frame after which it switched
     const bool detects =
         std::any_of(variants.begin(), variants.end(), [](const Variant& v) { return v.autoHud; });
     for (int f = 0; f < o.frames; ++f) {
@@ -322,7 +324,7 @@ int runSuite(const Options& o) {
       const bool switchToHud = detects && headLocked.decided() && headLocked.decidedFrame() == f - 1;
       if (detects) headLocked.observe(f, {&base[0].color, &base[1].color}, trackedCams);
       for (Variant& v : variants)
-        if (switchToHud && v.autoHud && v.filter) v.filter->setParams(hudProfileOf(v.params));
+        if (switchToHud && v.autoHud && v.filter) v.filter->setParams(core::withHudProfile(v.params));
       const StereoDifference gtSd =
           stereoDifference(ft.gt[0], base[0].depth, cams[0], ft.gt[1], base[1].depth, cams[1]);
       gtStereoSum += gtSd.meanSquared;
@@ -403,6 +405,8 @@ int runSuite(const Options& o) {
           const bool ok = v.filter->submit(frame, output, &error);
           const auto c1 = std::chrono::steady_clock::now();
           v.filter->waitIdle();
+          if (const auto e = v.filter->headLockedEvidence(); hudSwitchedAfter[vi] < 0 && e && e->decidedFrame)
+            hudSwitchedAfter[vi] = f;
           if (f == o.frames - 1) lastFrame[vi] = frame;
           if (!ok) {
             std::cerr << "\nsteadyxr-eval: filter '" << v.name << "' submit failed: " << error << "\n";
@@ -481,6 +485,17 @@ int runSuite(const Options& o) {
         return 1;
       }
       progress.update(++framesDone, sc.label + " " + std::to_string(f + 1) + "/" + std::to_string(o.frames));
+    }
+    for (size_t vi = 0; vi < variants.size(); ++vi) {
+      const core::Params& p = variants[vi].params;
+      if (!variants[vi].filter || !p.steadyHeadLockedSwitch || p.temporal != core::TemporalMethod::Steady)
+        continue;
+      if (!hudSwitchCsv.is_open()) {
+        hudSwitchCsv.open(o.outDir + "/hudswitch.csv");
+        hudSwitchCsv << "case,method,decided_frame\n";  // -1: never; the profile from the frame after
+      }
+      hudSwitchCsv << csvEscape(sc.label) << ',' << csvEscape(variants[vi].name) << ','
+                   << hudSwitchedAfter[vi] << '\n';
     }
     if (detects) {
       if (!autoHudCsv.is_open()) {
@@ -578,6 +593,7 @@ int runSuite(const Options& o) {
             << "/results.csv, results.json, timeseries.csv, warp_errors.csv, crops/*.png"
             << (o.corpus ? ", corpus.csv" : "") << (overlayCsv.is_open() ? ", overlay.csv" : "")
             << (autoHudCsv.is_open() ? ", autohud.csv" : "")
+            << (hudSwitchCsv.is_open() ? ", hudswitch.csv" : "")
             << (animateLabel.empty() ? "" : ", anim/" + animateLabel + "/") << "\n";
   if (o.validation && ctx->validationMessageCount() > 0) {
     std::cerr << "steadyxr-eval: " << ctx->validationMessageCount()

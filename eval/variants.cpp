@@ -149,6 +149,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
         params->steadyNoiseVariance = value;
     } else if (key == "autohud")  // round 41's study (head_locked_detector.h): switches to the profile hud
       v->autoHud = value != 0.0f;
+    else if (key == "hudswitch")  // round 42 (the default): 0 = no head-locked switch (round 41's default)
+      params->steadyHeadLockedSwitch = value != 0.0f;
     else if (key == "hold")  // round 20: the 8-bit output's hysteresis in codes beyond 1/2 (0 = rounding)
       params->steadyOutputHold = value;
     else if (key == "boxcur")

@@ -114,6 +114,9 @@ layout(set = 0, binding = 6, std140) uniform PassParams {
   int probeBlockPx;                // steady's probe (round 17): one sample per block of this side
   float steadyOutputHold;          // steady (round 20): the 8-bit output's hysteresis, codes beyond 1/2
   int shownValid;                  // steady (round 20): 1 = last frame's shown codes are this pass's
+  int headLockedStep;              // steady's probe (round 42): 0 none, 1 take the reference, 2 testify
+  float headLockedInputDecoded;    // steady's probe (round 42): 1 = src0 is sRGB, read decoded to linear
+  float headLockedDetailVariance;  // steady's probe (round 42): the frame's own finest detail, as a variance
 } P;
 
 vec3 sanitize(vec3 c) {

@@ -98,8 +98,12 @@ void addNoiseSample(float absDetail, int histogram) {
 //   frame's block and its neighbour a block to the right (samples whose i + j is even) or below (odd; round
 //   32: one neighbour a sample, where round 31 averaged both). Words 4 and 5 of the record.
 // - Round 33 (bit 11): the structure of the frame's block and of the history's (blockStructure), words 6 and 7.
-shared uint sProbeSums[10];  // the gain's four sums, the residual's two, the blocks' two (round 31), structures
+// - Round 42 (bit 13, P.headLockedStep): the head-locked switch's testimonies (observeHeadLocked), counted into
+//   word 8; compiled in only where an epoch's frame asks for them.
+shared uint sProbeSums[11];  // the gain's four sums, the residual's two, the blocks' two (round 31), structures,
+                             // the head-locked switch's steady samples (round 42)
 const int kProbeSumsGain = 0, kProbeSumsResidual = 4, kProbeSumsBlocks = 6, kProbeSumsStructure = 8;
+const int kProbeSumsHeadLocked = 10;
 // Round 31: the luma's mean over the 4x4 texels of src0 around the texel corner `corner` (centres corner
 // +- 0.5, +- 1.5), and the history's over the same area around q: four bilinear taps at texel corners, each
 // the mean of a 2x2 quad (a quad's corner kept a texel inside the image: its texels are the eye's own).
@@ -138,16 +142,115 @@ float historyBlockLuma(vec2 q, out vec4 taps) {
 float blockStructure(vec4 quads) {
   return 0.25 * (abs(quads.x + quads.z - quads.y - quads.w) + abs(quads.x + quads.y - quads.z - quads.w));
 }
+// Round 42: the head-locked switch (Params::steadyHeadLockedSwitch; layer/core/src/filter_head_locked.h has the
+// epochs and the decision). The probe writes no history: binding 4 holds the eye's record in its dispatch, one
+// texel a sample: the reference's block luma in two half floats (its nearest half in r, the rest in a: a
+// half alone is off by up to an eighth of a code, too much beside a match of one), 1 + the sample's head-locked
+// testimonies in g (0: no reference yet), its world testimonies in b. Luma as displayed (the app's codes over
+// 255: an sRGB input encoded again), the scale of round 41's thresholds.
+layout(set = 0, binding = 4, rgba16f) uniform image2D uHeadLockedRecord;
+const int kHeadLockedTestify = 2;  // filter_head_locked.h, HeadLockedStep (1: take the reference only)
+const float kHeadLockedShiftPx = 2.0;        // filter_head_locked.h
+const float kHeadLockedEpochsToDecide = 2.0;  // filter_head_locked.h, kHeadLockedEvidenceSamples's epochs
+const float kHeadLockedMostTestimonies = 1000.0;  // exact in half floats
+float displayedLuma(vec3 c) {
+  c = clamp(c, 0.0, 1.0);
+  return toYCoCg(P.headLockedInputDecoded > 0.5 ? linearToSrgb(c) : c).x;
+}
+// The displayed luma's mean over the 4x4 texels -2 .. 1 of the window: the block whose centre is the sample's
+// top-left corner (texel corners at integers), round 41's block at a sample.
+float windowDisplayedBlock(const vec3 window[25]) {
+  float sum = 0.0;
+  [[unroll]] for (int y = -2; y <= 1; ++y)
+    [[unroll]] for (int x = -2; x <= 1; ++x) sum += displayedLuma(probeWindowAt(window, x, y));
+  return sum * (1.0 / 16.0);
+}
+// The block mean at a point between texel corners: the blocks at the four corners around it, bilinear, which
+// weighs the 5x5 texels from floor(q) - 2 by (1 - f, 1, 1, 1, f) per axis.
+float displayedBlockAt(vec2 q) {
+  const ivec2 t = ivec2(floor(q));
+  const vec2 f = q - vec2(t);
+  float sum = 0.0;
+  [[unroll]] for (int y = -2; y <= 2; ++y) {
+    const float wy = y == -2 ? 1.0 - f.y : y == 2 ? f.y : 1.0;
+    [[unroll]] for (int x = -2; x <= 2; ++x) {
+      const float wx = x == -2 ? 1.0 - f.x : x == 2 ? f.x : 1.0;
+      sum += wx * wy * displayedLuma(fetchSrc0(t + ivec2(x, y)));
+    }
+  }
+  return sum * (1.0 / 16.0);
+}
+// A block's 16 texels inside the eye.
+bool blockInside(vec2 corner) {
+  return all(greaterThanEqual(corner, vec2(2.0))) && all(lessThanEqual(corner, vec2(P.src0Size) - 2.0));
+}
+// Two block means that show the same thing differ by what can change a pixel between them: the frame's own
+// finest detail (round 13's estimate from the probe's histogram: noise, and aliasing, whose pixels change
+// under a sub-pixel move), a pixel's luma's standard deviation (3/8 of a channel's variance,
+// noise_estimate.h) through the display encoding's slope at the block's level, times sqrt(2) / 4 (16
+// texels each). Three of those, and never less than a code, is a match (round 41, whose study took the same
+// detail from the frame itself).
+float headLockedMatch(float displayedLevel) {
+  float slope = 1.0;
+  if (P.headLockedInputDecoded > 0.5) {  // d(encoded)/d(linear) at the displayed level
+    const float linearLevel = pow((max(displayedLevel, 0.0) + 0.055) / 1.055, 2.4);
+    slope = linearLevel <= 0.0031308 ? 12.92 : (1.055 / 2.4) * pow(linearLevel, 1.0 / 2.4 - 1.0);
+  }
+  const float noise = sqrt(max(P.headLockedDetailVariance, 0.0) * 0.375) * slope * (sqrt(2.0) / 4.0);
+  return max(1.0 / 255.0, 3.0 * noise);
+}
+// The sample at pixel p: its block now, against the record's reference (in an epoch's last frame), then the
+// record holds it. Head-locked content stays at its pixel; the world moved by d to where the head's rotation
+// carried it (P.reproj[1]: the reference's pixel -> this frame's). A sample testifies only where it has moved
+// kHeadLockedShiftPx and the two hypotheses predict different blocks for it now: the reference's block at p
+// (head-locked) and at p - d (the world's; round 41 read it in the reference frame). The record keeps the
+// reference at the samples only, so this frame stands in for it: at p + d the world has carried the
+// reference's p, at p - d head-locked content shows the reference's p - d. Both must differ from the block
+// at p by a mismatch (a near-flat picture, aliasing's slow moire, a flat patch beside an edge the rotation
+// does not explain: no evidence). It counts once it testified head-locked in two epochs and never for the
+// world.
+void observeHeadLocked(ivec2 sampleIndex, ivec2 p, const vec3 window[25], bool jittered) {
+  const vec2 here = vec2(p);
+  if (!blockInside(here)) return;
+  const float now = windowDisplayedBlock(window);
+  if (isnan(now)) return;
+  float headLocked = 0.0, world = 0.0;
+  if (P.headLockedStep == kHeadLockedTestify) {
+    const vec4 record = imageLoad(uHeadLockedRecord, sampleIndex);
+    headLocked = max(record.g - 1.0, 0.0);
+    world = record.b;
+    const vec4 carriedTo = P.reproj[1] * vec4(here, 1.0, 0.0);
+    if (record.g > 0.5 && !jittered && carriedTo.z > 1e-12) {
+      const vec2 there = carriedTo.xy / carriedTo.z;
+      const vec2 mirrored = 2.0 * here - there;
+      if (distance(there, here) >= kHeadLockedShiftPx && blockInside(there) && blockInside(mirrored)) {
+        const float carried = displayedBlockAt(there), before = record.r + record.a;
+        const float match = headLockedMatch(before), mismatch = 4.0 * match;
+        if (abs(now - carried) > mismatch && abs(now - displayedBlockAt(mirrored)) > mismatch) {
+          const float headLockedResidual = abs(now - before), worldResidual = abs(carried - before);
+          if (headLockedResidual <= match && worldResidual > mismatch)
+            headLocked = min(headLocked + 1.0, kHeadLockedMostTestimonies);
+          if (worldResidual <= match && headLockedResidual > mismatch)
+            world = min(world + 1.0, kHeadLockedMostTestimonies);
+        }
+      }
+    }
+    if (headLocked >= kHeadLockedEpochsToDecide && world == 0.0) atomicAdd(sProbeSums[kProbeSumsHeadLocked], 1u);
+  }
+  const float nowHalf = unpackHalf2x16(packHalf2x16(vec2(now, 0.0))).x;
+  imageStore(uHeadLockedRecord, sampleIndex, vec4(nowHalf, headLocked + 1.0, world, now - nowHalf));
+}
 void probeFrame(ivec2 sampleIndex) {
   const ivec2 p = sampleIndex * P.probeBlockPx + P.probeBlockPx / 2;
   // The switches spelled out (bits 4, 5, 6, 11), as in main: glslang defines a spec constant's expression with
   // && where it is first used, and a later use in a block that does not follow it is invalid SPIR-V.
   const bool noiseSampled = (kSteadyBoxSwitches & 16) != 0, residualSampled = (kSteadyBoxSwitches & 32) != 0;
   const bool probesGain = (kSteadyBoxSwitches & 64) != 0, blocksProbed = (kSteadyBoxSwitches & 2048) != 0;
+  const bool headLockedObserved = (kSteadyBoxSwitches & 8192) != 0;  // round 42: an epoch's frame
   const bool jittered = frameIsJittered();
   const bool leader = gl_LocalInvocationIndex == 0u;
   if (leader)
-    for (int i = 0; i < 10; ++i) sProbeSums[i] = 0u;
+    for (int i = 0; i < 11; ++i) sProbeSums[i] = 0u;
   barrier();
   if (all(lessThan(p, P.src0Size))) {
     vec3 centre;
@@ -156,6 +259,7 @@ void probeFrame(ivec2 sampleIndex) {
     loadProbeWindow(p, window);
     const vec3 estimate = probeFootprint(window, centre, frameDetail);
     if (noiseSampled && all(lessThan(p + 1, P.src0Size))) addNoiseSample(frameDetail, 0);
+    if (headLockedObserved) observeHeadLocked(sampleIndex, p, window, jittered);
     float invZ = P.fallbackInvZ;
     if ((kDepthBits & 1) != 0) invZ = invZFromDepth(texelFetch(uDepth0, P.depth0Offset + p, 0).r, P.depth0);
     vec2 q;
@@ -200,6 +304,7 @@ void probeFrame(ivec2 sampleIndex) {
     atomicAdd(noiseBins[residualSums], sProbeSums[kProbeSumsResidual]);
     atomicAdd(noiseBins[residualSums + 1], sProbeSums[kProbeSumsResidual + 1]);
   }
+  if (sProbeSums[kProbeSumsHeadLocked] != 0u) atomicAdd(noiseBins[kGainBase + 8], sProbeSums[kProbeSumsHeadLocked]);
   if (probesGain && sProbeSums[kProbeSumsGain + 3] != 0u) {
     for (int i = 0; i < 4; ++i) atomicAdd(noiseBins[kGainBase + i], sProbeSums[kProbeSumsGain + i]);
     if (blocksProbed)

@@ -130,10 +130,13 @@ const std::vector<Member> kPassUniforms = {
     HOST_MEMBER(PassUniforms, probeBlockPx),
     HOST_MEMBER(PassUniforms, steadyOutputHold),
     HOST_MEMBER(PassUniforms, shownValid),
+    HOST_MEMBER(PassUniforms, headLockedStep),
+    HOST_MEMBER(PassUniforms, headLockedInputDecoded),
+    HOST_MEMBER(PassUniforms, headLockedDetailVariance),
 };
 // The table lists every host member: the last one (4 bytes) ends the struct, up to its 16-byte
 // alignment.
-static_assert(offsetof(PassUniforms, shownValid) + sizeof(int32_t) + 16 > sizeof(PassUniforms));
+static_assert(offsetof(PassUniforms, headLockedDetailVariance) + sizeof(float) + 16 > sizeof(PassUniforms));
 
 const std::vector<Member> kDepthToInvZ = {
     HOST_MEMBER(DepthToInvZ, invNear),

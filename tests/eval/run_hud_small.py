@@ -5,7 +5,8 @@ Checks that the overlay stays head-locked in the eye images (its mask covers the
 in every frame of a sway at 20 ppd, where world-locked content would move by pixels) and covers 5-15 %
 of the image, and that the default keeps the never-worse promise on the whole image and on the
 overlay's own pixels (eval/overlay_report.py). Round 41's study: the sway finds the overlay and the
-switched variant (`default@autohud=1`) changes from the frame after the decision. The one-pixel world ring around the overlay is where
+switched variant (`default@hudswitch=0@autohud=1`) changes from the frame after the decision; round 42: the same
+of the filter's own switch, the default since (`default` against `default@hudswitch=0`). The one-pixel world ring around the overlay is where
 the default is above none (README notes of round 7); it is reported, not asserted.
 usage: run_hud_small.py STEADYXR_EVAL OUT_DIR OVERLAY_REPORT_PY"""
 import csv
@@ -19,7 +20,9 @@ from eval_run import run_eval
 exe, out, report = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(out, ignore_errors=True)
 cmd = [exe, "--out", out, "--corpus", "--scenes", "hud", "--motions", "sway,tremor-2x", "--images", "astronaut",
-       "--resolution", "96x96", "--frames", "24", "--ppd", "20", "--methods", "none,default,default@autohud=1", "--no-progress"]
+       "--resolution", "96x96", "--frames", "24", "--ppd", "20",
+       "--methods", "none,default,default@hudswitch=0,default@hudswitch=0@autohud=1",
+       "--no-progress"]
 run_eval(cmd, tail=2000)
 
 with open(os.path.join(out, "overlay.csv"), newline="") as f:
@@ -58,8 +61,21 @@ with open(os.path.join(out, "timeseries.csv"), newline="") as f:
     for r in csv.DictReader(f):
         if r["scenario"] == "hud-sway-astronaut":
             series[(r["method"], int(r["frame"]))] = r["rmse"]
-for k in range(24):
-    same = series[("default", k)] == series[("default@autohud=1", k)]
-    assert same == (k <= frame), f"frame {k}: the switched variant {'equals' if same else 'differs from'} the " \
-        f"default's (decided in frame {frame}, switched from frame {frame + 1})"
-print(f"ok (the overlay found in frame {frame})")
+
+
+def check_switch(variant, frame):
+    for k in range(24):
+        same = series[("default@hudswitch=0", k)] == series[(variant, k)]
+        assert same == (k <= frame), f"frame {k}: {variant} {'equals' if same else 'differs from'} " \
+            f"default@hudswitch=0 (decided in frame {frame}, switched from frame {frame + 1})"
+
+
+check_switch("default@hudswitch=0@autohud=1", frame)
+# Round 42: the filter's own switch, read back after the frame whose probe decided (hudswitch.csv).
+with open(os.path.join(out, "hudswitch.csv"), newline="") as f:
+    switched = {r["case"]: int(r["decided_frame"]) for r in csv.DictReader(f) if r["method"] == "default"}
+assert switched.get("hud-tremor-2x-astronaut") == -1, f"hudswitch.csv: {switched}"
+layer_frame = switched.get("hud-sway-astronaut", -1)
+assert 0 <= layer_frame < 22, f"the filter's switch did not find the overlay in the sway in time: {switched}"
+check_switch("default", layer_frame)
+print(f"ok (the overlay found in frame {frame} by the study, in frame {layer_frame} by the filter)")

@@ -133,7 +133,7 @@ TEST(HeadLockedDetector, TheProfileIsTheLayers) {
   ASSERT_NE(plain.params.steadyClipHoldsCurrent, hud.params.steadyClipHoldsCurrent);
   core::Params told = plain.params;
   told.steadyNoiseEstimate = !told.steadyNoiseEstimate;
-  const core::Params switched = hudProfileOf(told);
+  const core::Params switched = core::withHudProfile(told);
   EXPECT_EQ(switched.steadyBlurBudgetPx2, hud.params.steadyBlurBudgetPx2);
   EXPECT_EQ(switched.steadyClipHoldsCurrent, hud.params.steadyClipHoldsCurrent);
   EXPECT_EQ(switched.steadyNoiseEstimate, told.steadyNoiseEstimate);  // everything else kept

@@ -86,7 +86,8 @@ void usage() {
          "@noisetold: the render's noise told (0.02^2 a channel), not estimated: the passes act\n"
          "on it in every pixel; @blurnoise, @blurnoise=0: round 26's blur\n"
          "guard traded against that noise, or not (steadyBlurNoiseTrade); @cut=0: no fresh start\n"
-         "where the pose does not explain a frame (steadyUnexplainedFrameResets; on since round 31).\n"
+         "where the pose does not explain a frame (steadyUnexplainedFrameResets; on since round 31);\n"
+         "@hudswitch=0: without the head-locked switch (steadyHeadLockedSwitch; on since round 42).\n"
          "--input: the eye images, a zone plate rendered for each frame's pose (the default since\n"
          "round 28: detail, aliasing and chroma, as an app's frames) or one flat colour (before).\n"
          "--pipelines: after each method, the pipelines it used as PASS:STORAGE:SPECIALISATION,\n"
@@ -305,6 +306,8 @@ std::optional<Params> methodParams(const std::string& spec) {
       params->steadyBlurNoiseTrade = false;
     else if (suffix == "cut=0")  // round 31: no fresh start where the pose does not explain a frame
       params->steadyUnexplainedFrameResets = false;
+    else if (suffix == "hudswitch=0")  // round 42: without the head-locked switch (the default before)
+      params->steadyHeadLockedSwitch = false;
     else
       return std::nullopt;
   }

@@ -63,15 +63,21 @@ std::optional<GainProbeSums> Filter::lastGainProbe() const {
   return impl_->gainProbe;
 }
 
+std::optional<HeadLockedEvidence> Filter::headLockedEvidence() const {
+  return impl_->headLocked.evidence();
+}
+
 RenderSizeCounters Filter::renderSizeCounters() const {
   return impl_->sizeCounters;
 }
 
 uint64_t Filter::imageMemoryBytes() const {
   uint64_t bytes = 0;
-  for (const detail::EyeState& eye : impl_->eyes)
+  for (const detail::EyeState& eye : impl_->eyes) {
     for (const auto* images : {&eye.history, &eye.scratch, &eye.shown})
       for (const detail::OwnedImage& img : *images) bytes += img.bytes;
+    bytes += eye.headLockedRecord.bytes;
+  }
   return bytes;
 }
 

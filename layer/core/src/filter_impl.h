@@ -47,7 +47,8 @@ struct Filter::Impl {
   // The render's noise variance per linear RGB channel from the finished frames that sampled it
   // (Params::steadyNoiseEstimate; noise_estimate.h), in the order they were submitted.
   detail::NoiseTracker noiseTracker;
-  uint64_t noiseNextFrame = 0;  // frames before it are read, or from before the last reset
+  uint64_t noiseNextFrame = 0;          // frames before it are read, or from before the last reset
+  detail::HeadLockedSwitch headLocked;  // round 42: whether the app draws head-locked content
 
   Impl(VulkanContext& c, detail::PipelineStore& store, const FilterOptions& options)
       : ctx(c),
@@ -74,6 +75,8 @@ struct Filter::Impl {
   // submit and its steps, in order (filter_submit.cpp).
   bool submit(const StereoFrame& frame, const StereoOutput& output, std::string* error, VkSemaphore signal);
   void applyPendingParams();
+  // Round 42: the head-locked switch's steps for this frame's probes, and the eyes' record images.
+  bool planHeadLocked(const StereoFrame& frame, detail::FramePlan& plan, std::string* error);
   bool checkInputs(const StereoFrame& frame, const StereoOutput& output, detail::FramePlan& plan,
                    std::string* error) const;
   bool prepareEyes(const StereoFrame& frame, detail::FramePlan& plan, std::string* error);
@@ -105,6 +108,8 @@ struct Filter::Impl {
   // One dispatch: its pipeline, uniforms and descriptor set. True when recorded, or skipped only
   // because its pipeline is still compiling.
   bool record(Recording& rec, const detail::PassDispatch& d, std::string* error);
+  // The pipeline's key of a dispatch on this device.
+  detail::SpecKey specKeyOf(const detail::PassDispatch& d) const;
   // Whether the passes (all but fxaa) run 4x4 pixels an invocation: Params::invocationBlock, by the device.
   bool blocksPixels() const;
   bool stagesHeldOutput(const detail::FramePlan& plan, uint32_t e, bool directStorage) const;

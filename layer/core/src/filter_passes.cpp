@@ -203,6 +203,15 @@ PassDispatch probePass(const PassContext& c, uint32_t e) {
   d.io.historyOut = VK_NULL_HANDLE;
   d.io.shownIn = Binding{};
   d.io.shownOut = VK_NULL_HANDLE;
+  // Round 42: the head-locked switch's step (filter_head_locked.h), in the eye's record image.
+  const HeadLockedEyeStep& headLocked = c.plan.headLocked[e];
+  if (headLocked.step != HeadLockedStep::None && c.eyes[e].headLockedRecord.view) {
+    d.uniforms.headLockedStep = static_cast<int32_t>(headLocked.step);
+    d.uniforms.reproj[1] = headLocked.referenceToNow;
+    d.uniforms.headLockedInputDecoded = d.switches.inputSrgb ? 1.0f : 0.0f;
+    d.uniforms.headLockedDetailVariance = c.frameDetailVariance;
+    d.io.headLockedRecord = c.eyes[e].headLockedRecord.view.get();
+  }
   return d;
 }
 
@@ -294,7 +303,11 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
                 // Round 26: the blur guard traded against the render's noise (per axis, with bit 8).
                 (params.steadyBlurNoiseTrade && params.steadyHistoryBlurPerAxis ? 1024 : 0) |
                 // Round 31: a frame the pose does not explain starts afresh (the probe's blocks, the pass).
-                (params.steadyGainCompensation && params.steadyUnexplainedFrameResets ? 2048 : 0)
+                (params.steadyGainCompensation && params.steadyUnexplainedFrameResets ? 2048 : 0) |
+                // Round 42: the head-locked switch's observations, compiled into the probe of an epoch's
+                // frames only (lavapipe pays for the code in every invocation where it is compiled in: 0.6x
+                // the copy at 256 px, in frames where no epoch ends).
+                (sw.probe && d.uniforms.headLockedStep != 0 ? 8192 : 0)
           : 0};
 }
 

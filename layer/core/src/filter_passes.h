@@ -7,6 +7,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include "filter_head_locked.h"
 #include "filter_pipelines.h"
 #include "filter_resources.h"
 #include "pass_uniforms.h"
@@ -58,6 +59,7 @@ struct PassIo {
   Binding shownIn;                          // 10: the codes the output showed last frame (hold)
   VkImageView shownOut = VK_NULL_HANDLE;    // 11: the codes it shows this frame
   bool outputIsShown = false;               // 5 is the codes' image (Target::holdsShownCodes); 11 unused
+  VkImageView headLockedRecord = VK_NULL_HANDLE;  // 4 in the probe, which writes no history (round 42)
 };
 
 // One dispatch, ready to record.
@@ -92,6 +94,7 @@ struct FramePlan {
   std::array<bool, 2> hasDepth{false, false};
   std::array<bool, 2> poseOk{false, false};
   bool imagesReallocated = false;  // prepareEyes made an eye's internal images anew (not the first time)
+  std::array<HeadLockedEyeStep, 2> headLocked{};  // the head-locked switch's step in each eye's probe
   std::array<Target, 2> targets{};
   std::array<Binding, 2> inputs{}, depths{};
 };
@@ -106,6 +109,7 @@ struct PassContext {
   uint32_t historyWrite;  // eyes[e].history[historyWrite] is written this frame, the other read
   uint32_t ditherSeed;    // the 8-bit history's dither, new every frame (common.glsl storeHistory)
   float noiseVariance;    // steady: the render's noise variance per linear RGB channel (estimated or told)
+  float frameDetailVariance;  // steady: the newest frame's own finest detail, as a variance (round 42), or 0
 };
 
 // The first stage of eye e: the app's input through copy, fxaa or a temporal method into this

@@ -181,6 +181,16 @@ VkPipeline PipelineCache::get(Pass pass, OutFmt fmt, const SpecKey& spec, std::s
   return p;
 }
 
+VkPipeline PipelineCache::ready(Pass pass, OutFmt fmt, const SpecKey& spec) {
+  const PipelineKey key{pass, fmt, spec};
+  if (const auto it = used_.find(key); it != used_.end()) return it->second;
+  bool stillCompiling = false;
+  std::string error;
+  const VkPipeline p = store_.get(key, background_, &stillCompiling, &error);
+  if (p) used_.emplace(key, p);
+  return p;
+}
+
 std::vector<PipelineDescription> PipelineCache::made() const {
   std::vector<PipelineDescription> out;
   for (const auto& [key, pipeline] : used_) {

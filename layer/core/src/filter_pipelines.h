@@ -97,6 +97,9 @@ class PipelineCache {
       : store_(store), background_(compileInBackground) {}
 
   VkPipeline get(Pass pass, OutFmt fmt, const SpecKey& spec, std::string* error);
+  // The same, for a pipeline a later frame may need (round 42: the head-locked switch's probe): null while it
+  // compiles, without marking this frame's passes as compiling; a failed compile stays null.
+  VkPipeline ready(Pass pass, OutFmt fmt, const SpecKey& spec);
   std::vector<PipelineDescription> made() const;  // the pipelines this filter used so far
   bool compiling = false;                         // a get() of this frame found its pipeline still compiling
 

@@ -127,6 +127,7 @@ std::vector<VkImageMemoryBarrier> Filter::Impl::transitionIn(VkCommandBuffer cmd
     for (auto& h : eyes[e].history) addOwned(h);
     for (auto& sc : eyes[e].scratch) addOwned(sc);
     for (auto& sh : eyes[e].shown) addOwned(sh);
+    addOwned(eyes[e].headLockedRecord);
   }
   // Earlier frames' writes to the internal images (history) before this frame reads/overwrites them.
   VkMemoryBarrier mem{};
@@ -149,15 +150,23 @@ std::vector<VkImageMemoryBarrier> Filter::Impl::transitionIn(VkCommandBuffer cmd
   return post;
 }
 
+detail::SpecKey Filter::Impl::specKeyOf(const PassDispatch& d) const {
+  const bool cpuDevice = ctx.isCpuDevice();
+  const uint32_t groupX = cpuDevice ? kCpuGroupX : kGpuGroupX;
+  const uint32_t groupY = cpuDevice ? kCpuGroupY : kGpuGroupY;
+  // fxaa's reads follow the edges; the probe has blocks of its own on every device (probeBlockPx).
+  const bool blocked = d.switches.probe || (d.pass != Pass::Fxaa && blocksPixels());
+  return passSpecKey(d, params, blocked, groupX, groupY);
+}
+
 bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* error) {
   Slot& s = rec.slot;
   const VkCommandBuffer cmd = s.cmd;
   const bool cpuDevice = ctx.isCpuDevice();
   const uint32_t groupX = cpuDevice ? kCpuGroupX : kGpuGroupX;
   const uint32_t groupY = cpuDevice ? kCpuGroupY : kGpuGroupY;
-  // fxaa's reads follow the edges; the probe has blocks of its own on every device (probeBlockPx).
   const bool blocked = d.switches.probe || (d.pass != Pass::Fxaa && blocksPixels());
-  const VkPipeline p = pipelines.get(d.pass, d.fmt, passSpecKey(d, params, blocked, groupX, groupY), error);
+  const VkPipeline p = pipelines.get(d.pass, d.fmt, specKeyOf(d), error);
   if (!p && pipelines.compiling)
     return true;  // record nothing, but go on: every pipeline of the frame starts
   if (!p || rec.dispatchIndex >= kMaxDispatches) return false;
@@ -185,7 +194,10 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
       sampled(sampler.get(), io.src1),
       sampled(samplerNearest.get(), io.depth0),
       sampled(samplerNearest.get(), io.depth1),
-      {VK_NULL_HANDLE, io.historyOut && !history8 ? io.historyOut : dummy16.view.get(),
+      {VK_NULL_HANDLE,
+       io.headLockedRecord          ? io.headLockedRecord
+       : io.historyOut && !history8 ? io.historyOut
+                                    : dummy16.view.get(),
        VK_IMAGE_LAYOUT_GENERAL},
       {VK_NULL_HANDLE, io.output ? io.output : outDummy, VK_IMAGE_LAYOUT_GENERAL},
       {},  // 6: the uniform buffer

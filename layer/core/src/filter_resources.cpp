@@ -231,6 +231,11 @@ void Filter::Impl::collect(Slot& s) {
   s.noiseSampled = false;
   if (s.gainProbed) readGainProbe(s);
   s.gainProbed = false;
+  if (s.headLockedTestified)
+    headLocked.noteSteadySamples(
+        noiseBins(s)[detail::kNoiseBufferBytes / sizeof(uint32_t) + detail::kHeadLockedCountWord],
+        s.frameIndex);
+  s.headLockedTestified = false;
   if (!s.timed || !s.queries) return;
   std::array<uint64_t, kQueries> ts{};
   if (vkGetQueryPoolResults(device, s.queries.get(), 0, kQueries, sizeof(ts), ts.data(), sizeof(uint64_t),
@@ -256,6 +261,10 @@ void Filter::Impl::collectFinished() {
   for (auto& s : slots)
     if (s.pending && vkGetFenceStatus(device, s.fence.get()) == VK_SUCCESS) collect(s);
 }
+
+static_assert(detail::kHeadLockedCountWord >= detail::kGainRecordWords &&
+                  detail::kHeadLockedCountWord < detail::kGainCopyStrideWords,
+              "the head-locked count has a word of its own on the gain record's line");
 
 void Filter::Impl::readGainProbe(const Slot& s) {
   const uint32_t* record = noiseBins(s) + detail::kNoiseBufferBytes / sizeof(uint32_t);  // temporal.comp

@@ -63,8 +63,9 @@ struct Slot {
   Unique<VkQueryPool> queries;
   bool pending = false;
   bool timed = false;
-  bool noiseSampled = false;  // a pass of the frame filled the noise histogram
-  bool gainProbed = false;    // the frame's gain probe filled its record
+  bool noiseSampled = false;         // a pass of the frame filled the noise histogram
+  bool gainProbed = false;           // the frame's gain probe filled its record
+  bool headLockedTestified = false;  // its probe testified for the head-locked switch (filter_head_locked.h)
   uint64_t frameIndex = 0;
 };
 
@@ -72,6 +73,9 @@ struct EyeState {
   std::array<OwnedImage, 2> history;  // ping-pong, RGBA16F, linear light
   std::array<OwnedImage, 2> scratch;  // intermediates for outputs without storage: [kOut8], [kOut16]
   std::array<OwnedImage, 2> shown;    // ping-pong with history, RGBA8: the 8-bit output's codes (hold)
+  // Round 42: RGBA16F, one texel a probe sample: the reference's block luma (in r and a), 1 + the sample's
+  // head-locked testimonies, its world testimonies (Params::steadyHeadLockedSwitch, shaders/probe.glsl).
+  OwnedImage headLockedRecord;
   bool valid = false;
   bool shownWritten = false;  // this frame's temporal pass writes shown[] (the stereo pass does not)
   bool shownValid = false;    // it did last frame

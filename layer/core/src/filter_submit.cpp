@@ -64,11 +64,12 @@ bool stereoBlendsNowhere(const Params& params, const StereoFrame& frame, const F
 bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, std::string* error,
                           VkSemaphore signal) {
   pipelines.compiling = false;
+  collectFinished();  // the newest noise estimate (and the head-locked switch's count), without waiting
   applyPendingParams();
-  collectFinished();  // the newest noise estimate, without waiting
   FramePlan plan;
   if (!checkInputs(frame, output, plan, error)) return false;
   if (!prepareEyes(frame, plan, error)) return false;
+  if (!planHeadLocked(frame, plan, error)) return false;
   if (!bindTargets(frame, output, plan, error)) return false;
 
   Slot& s = beginRecording();
@@ -83,6 +84,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
 
   if (!ok) {
     for (auto& eye : eyes) eye.valid = false;
+    headLocked.restartEpochs();  // the probe may not have taken this frame as its reference
     if (error && error->empty()) *error = "recording the filter commands failed";
     return false;
   }
@@ -91,10 +93,46 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
 }
 
 void Filter::Impl::applyPendingParams() {
-  if (!paramsChanged) return;
-  if (pendingParams.temporal != params.temporal) resetRequested = true;
-  params = pendingParams;
+  if (paramsChanged && pendingParams.temporal != params.temporal) resetRequested = true;
   paramsChanged = false;
+  if (resetRequested) headLocked = {};  // Filter::reset: what the filter learnt about the app goes too
+  // The caller's params (pendingParams holds the newest), with the profile hud's settings once the
+  // head-locked switch has decided (round 42): two uniforms, no new pipeline, the history kept.
+  params = pendingParams.steadyHeadLockedSwitch && headLocked.decided() ? withHudProfile(pendingParams)
+                                                                        : pendingParams;
+}
+
+bool Filter::Impl::planHeadLocked(const StereoFrame& frame, FramePlan& plan, std::string* error) {
+  const bool probes = plan.temporal && plan.firstStage && params.temporal == TemporalMethod::Steady &&
+                      (params.steadyNoiseEstimate || params.steadyGainCompensation);  // recordPasses
+  if (!params.steadyHeadLockedSwitch || !probes) return true;
+  std::array<int32_t, 2> blockPx{};
+  bool jittered = params.jitteredInput;
+  for (uint32_t e = 0; e < plan.viewCount; ++e) {
+    const ViewFrame& v = frame.views[e];
+    blockPx[e] = detail::probeBlockPx(static_cast<int32_t>(v.color.rect.extent.width),
+                                      static_cast<int32_t>(v.color.rect.extent.height));
+    jittered = jittered || v.jitterPx.x != 0.0f || v.jitterPx.y != 0.0f;
+  }
+  plan.headLocked = headLocked.plan(frame, plan.poseOk, blockPx, jittered);
+  for (uint32_t e = 0; e < plan.viewCount; ++e) {
+    if (plan.headLocked[e].step != detail::HeadLockedStep::TakeReference) continue;
+    OwnedImage& record = eyes[e].headLockedRecord;
+    VkExtent2D extent = detail::headLockedRecordExtent(frame.views[e].color.rect.extent, blockPx[e]);
+    // The probe overwrites every texel of its grid; a smaller grid (an app's dynamic resolution) fits.
+    if (record.image && extent.width <= record.extent.width && extent.height <= record.extent.height)
+      continue;
+    if (record.image)
+      extent = {std::max(extent.width, record.extent.width), std::max(extent.height, record.extent.height)};
+    waitAll();
+    if (!createImage(record, extent, VK_FORMAT_R16G16B16A16_SFLOAT,
+                     VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, error)) {
+      headLocked.restartEpochs();
+      return false;
+    }
+    record.clearOnInit = true;
+  }
+  return true;
 }
 
 bool Filter::Impl::checkInputs(const StereoFrame& frame, const StereoOutput& output, FramePlan& plan,
@@ -311,12 +349,23 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
   const bool steady = plan.temporal && params.temporal == TemporalMethod::Steady;
   const float noiseVariance =
       !params.steadyNoiseEstimate ? params.steadyNoiseVariance : noiseTracker.variance().value_or(0.0f);
-  const PassContext c{
-      frame, output, params, plan, eyes, historyIndex, static_cast<uint32_t>(frameCounter), noiseVariance};
+  const PassContext c{frame,
+                      output,
+                      params,
+                      plan,
+                      eyes,
+                      historyIndex,
+                      static_cast<uint32_t>(frameCounter),
+                      noiseVariance,
+                      noiseTracker.frameDetailVariance().value_or(0.0f)};
   for (uint32_t e = 0; e < plan.viewCount; ++e) eyes[e].shownWritten = detail::writesHeldOutput(c, e);
   s.noiseSampled = steady && plan.firstStage && params.steadyNoiseEstimate;
   s.gainProbed = false;
   const bool probesGain = steady && plan.firstStage && params.steadyGainCompensation;
+  s.headLockedTestified = (s.noiseSampled || probesGain) &&
+                          std::any_of(plan.headLocked.begin(), plan.headLocked.end(), [](const auto& h) {
+                            return h.step == detail::HeadLockedStep::Testify;
+                          });
   if (s.noiseSampled || probesGain) zeroRecords(s);
   bool ok = true;
   if (s.noiseSampled || probesGain) ok = recordProbes(rec, c, probesGain, error);
@@ -359,10 +408,34 @@ void Filter::Impl::copyRecordsOut(Slot& s) {
 // Round 16: both eyes' probes into the zeroed records (the gain's, made visible to the temporal passes that
 // read it; round 22: the noise samples too).
 bool Filter::Impl::recordProbes(Recording& rec, const PassContext& c, bool probesGain, std::string* error) {
+  std::array<PassDispatch, 2> probes;
+  bool observes = false;  // round 42: the head-locked switch's step in this frame (its own pipeline)
+  for (uint32_t e = 0; e < c.plan.viewCount; ++e) {
+    probes[e] = probePass(c, e);
+    observes = observes || probes[e].uniforms.headLockedStep != 0;
+  }
+  if (params.steadyHeadLockedSwitch) {
+    // Its pipeline is asked for in every frame until made, so that an epoch seldom waits for it; an epoch
+    // whose pipeline is still compiling starts again (this frame passes nothing on to the next).
+    bool ready = true;
+    for (uint32_t e = 0; e < c.plan.viewCount; ++e) {
+      PassDispatch observing = probes[e];
+      observing.uniforms.headLockedStep = static_cast<int32_t>(detail::HeadLockedStep::Testify);
+      ready = pipelines.ready(observing.pass, observing.fmt, specKeyOf(observing)) && ready;
+    }
+    if (observes && !ready) {
+      for (uint32_t e = 0; e < c.plan.viewCount; ++e) {
+        probes[e].uniforms.headLockedStep = 0;
+        probes[e].io.headLockedRecord = VK_NULL_HANDLE;
+      }
+      headLocked.restartEpochs();
+      rec.slot.headLockedTestified = false;
+    }
+  }
   // Every frame, also one without a history (the probe then adds no gain): its pipeline is asked for with
   // the temporal pass's, so no later frame waits for it to compile (and passes through meanwhile).
   for (uint32_t e = 0; e < c.plan.viewCount; ++e) {
-    if (!record(rec, probePass(c, e), error)) return false;
+    if (!record(rec, probes[e], error)) return false;
   }
   rec.slot.gainProbed = probesGain;
   memoryBarrier(rec.slot.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,

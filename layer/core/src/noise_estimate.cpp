@@ -64,6 +64,7 @@ int residualMeanSide(const uint32_t* bins) {
 
 void NoiseTracker::add(const uint32_t* bins, float footprintK, bool residualOverTime, bool changeTest) {
   const std::optional<float> spatial = noiseVarianceFromHistogram(bins);
+  frameDetail_ = spatial;
   if (!residualOverTime) {
     if (spatial) variance_ = spatial;
     return;

@@ -49,6 +49,7 @@ constexpr uint32_t kNoiseBufferBytes = kNoiseCopies * kNoiseCopyStrideWords * si
 // Round 31 (Params::steadyUnexplainedFrameResets): two more words, the magnitudes of the 4x4 blocks' luma
 // change since the history and of their step to the next block, summed (1/kResidualSumScale). Round 33: two
 // more, the structure of the frame's block and of the history's (the halves' differences, temporal.comp).
+// Round 42: word 8, the head-locked switch's count (filter_head_locked.h, kHeadLockedCountWord).
 constexpr uint32_t kGainRecordWords = 8;
 constexpr uint32_t kGainCopyStrideWords = 16;  // one 64-byte line
 constexpr float kLumaSumScale = 1024.0f;
@@ -106,11 +107,15 @@ class NoiseTracker {
   // The variance per linear RGB channel; none until a frame (with residualOverTime: a frame with a
   // history) gave an estimate.
   std::optional<float> variance() const { return variance_; }
+  // Round 13's estimate of the newest frame added: its own finest detail (aliasing, texture and noise alike),
+  // per linear RGB channel. Round 42's head-locked switch holds a match to what that detail can move a block.
+  std::optional<float> frameDetailVariance() const { return frameDetail_; }
 
  private:
   std::array<float, kResidualWindowFrames> residual_{};
   size_t residualFrames_ = 0;  // residual estimates in a row, up to the window
   std::optional<float> variance_;
+  std::optional<float> frameDetail_;
   int meanSideRun_ = 0;  // frames in a row whose residual's mean lay on one side; its sign the side
 };
 

@@ -123,4 +123,10 @@ std::string validate(const Params& p, Params* sanitized) {
   return first;
 }
 
+Params withHudProfile(Params p) {
+  p.steadyBlurBudgetPx2 = kHudBlurBudgetPx2;
+  p.steadyClipHoldsCurrent = true;
+  return p;
+}
+
 }  // namespace steadyxr::core

@@ -73,6 +73,9 @@ struct PassUniforms {
   int32_t probeBlockPx;            // steady's probe (round 17): one sample per block of this side
   float steadyOutputHold;          // steady (round 20): the 8-bit output's hysteresis, codes beyond 1/2
   int32_t shownValid;              // steady (round 20): 1 = last frame's shown codes are this pass's
+  int32_t headLockedStep;          // steady's probe (round 42): filter_head_locked.h's HeadLockedStep
+  float headLockedInputDecoded;    // steady's probe (round 42): 1 = src0 is sRGB, read decoded to linear
+  float headLockedDetailVariance;  // steady's probe (round 42): the frame's own finest detail, as a variance
 };
 
 // std140 offsets of PassParams in common.glsl: a host member moved fails here, a shader member
@@ -122,6 +125,9 @@ static_assert(offsetof(PassUniforms, steadyNoiseVariance) == 496);
 static_assert(offsetof(PassUniforms, probeBlockPx) == 500);
 static_assert(offsetof(PassUniforms, steadyOutputHold) == 504);
 static_assert(offsetof(PassUniforms, shownValid) == 508);
-static_assert(sizeof(PassUniforms) == 512);  // the block's 512 bytes (16-aligned by DepthToInvZ)
+static_assert(offsetof(PassUniforms, headLockedStep) == 512);
+static_assert(offsetof(PassUniforms, headLockedInputDecoded) == 516);
+static_assert(offsetof(PassUniforms, headLockedDetailVariance) == 520);
+static_assert(sizeof(PassUniforms) == 528);  // the block's 528 bytes (16-aligned by DepthToInvZ)
 
 }  // namespace steadyxr::core

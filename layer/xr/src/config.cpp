@@ -127,6 +127,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_gain_compensation", &core::Params::steadyGainCompensation},
     {"steady_gain_relights_admitted", &core::Params::steadyGainRelightsAdmitted},
     {"steady_unexplained_frame_resets", &core::Params::steadyUnexplainedFrameResets},
+    {"steady_head_locked_switch", &core::Params::steadyHeadLockedSwitch},
     {"stereo_inverse_variance", &core::Params::stereoInverseVariance},
     {"stereo_tap_curvature", &core::Params::stereoTapCurvature},
 };
@@ -143,7 +144,9 @@ constexpr ProfileSetting kHudProfile[] = {{"steady_blur_budget_px2", "0.0104"},
                                           {"steady_clip_holds_current", "1"}};
 // world-only: an app whose eye images hold world content only (no video, no HUD): round 10's gate
 // on the one-sided box (fresh static draws 0.744 and 0.735 of none's against 0.791 and 0.789).
-constexpr ProfileSetting kWorldOnlyProfile[] = {{"steady_clip_curvature_centred_gated", "1"}};
+// Round 42: such an app needs no head-locked switch either.
+constexpr ProfileSetting kWorldOnlyProfile[] = {{"steady_clip_curvature_centred_gated", "1"},
+                                                {"steady_head_locked_switch", "0"}};
 // noisy: an app whose eye images carry per-frame noise (film grain, a path tracer, dithered
 // transparency): the render's noise estimated and the clip box widened by it. Rounds 13-14's option;
 // the default since round 15, so the profile sets what the default has (a config that names it keeps

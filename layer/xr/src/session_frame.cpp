@@ -321,6 +321,13 @@ std::optional<PassReason> Session::runFilter(FrameWork& work) {
     return PassReason::FilterError;
   }
   if (dumper_.wants()) dumper_.dump(*vk_, work.input, work.output, log);
+  if (const auto evidence = filter_->headLockedEvidence(); evidence && evidence->decidedFrame) {
+    log.once(LogLevel::Info, "head-locked-switch",
+             "steady_head_locked_switch: the app draws head-locked content (a HUD, a reticle) into its eye "
+             "images (found in filtered frame " +
+                 std::to_string(*evidence->decidedFrame) +
+                 "): the profile hud's settings for the rest of the session");
+  }
   return std::nullopt;
 }
 

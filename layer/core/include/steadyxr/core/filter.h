@@ -47,6 +47,16 @@ struct PipelineDescription {
   std::vector<int32_t> specialisation;
 };
 
+// Round 42: the head-locked switch's evidence (Filter::headLockedEvidence). Frames are counted by submit,
+// from 0.
+struct HeadLockedEvidence {
+  uint64_t frame = 0;  // the newest epoch read back: the frame that ended it
+  uint32_t steadySamples =
+      0;                // then: samples (both eyes) that testified head-locked in 2 epochs, never world
+  uint32_t epochs = 0;  // epochs read back
+  std::optional<uint64_t> decidedFrame;  // the frame whose evidence decided, if any
+};
+
 class Filter {
  public:
   static std::unique_ptr<Filter> create(VulkanContext& context, const Params& params, std::string* error,
@@ -65,8 +75,8 @@ class Filter {
   bool compiling() const;
 
   void setParams(const Params& params);  // takes effect on the next submit; method change resets history
-  const Params& params() const;
-  void reset();  // history is reinitialised on the next submit
+  const Params& params() const;          // in force (round 42: with the profile hud's settings once switched)
+  void reset();                          // history is reinitialised on the next submit
 
   // Blocks until all submitted work is done (tests, shutdown).
   void waitIdle();
@@ -78,6 +88,10 @@ class Filter {
   std::optional<float> estimatedNoiseVariance() const;
   // The gain probe's sums of the newest finished frame that had samples (a history), if any.
   std::optional<GainProbeSums> lastGainProbe() const;
+  // Round 42 (Params::steadyHeadLockedSwitch): what the probe has found of head-locked content since the
+  // start (reset() forgets it), once an epoch's evidence was read back. From the frame after the host read
+  // the decision, params() holds the profile hud's settings.
+  std::optional<HeadLockedEvidence> headLockedEvidence() const;
   // The filtered frames' changes of render size, and what became of the history across them.
   RenderSizeCounters renderSizeCounters() const;
   // The device memory of the filter's own images (each eye's history and their companions), in bytes.

@@ -206,6 +206,15 @@ struct Params {
   // 90 Hz: frames up to 1.35x none's). Not where the gain explains the change (a fade) or the blocks' change
   // is under the box's floor (rounding). false: round 30's default.
   bool steadyUnexplainedFrameResets = true;
+  // Round 42 (the default, item 14; with steadyGainCompensation or steadyNoiseEstimate, whose probe looks):
+  // the filter switches itself to the profile hud's settings (withHudProfile) for the rest of the session
+  // once its probe has found that the app draws head-locked content into its eye images (a HUD, a reticle).
+  // Round 41's study built in (eval/head_locked_detector.h; filter_head_locked.h): in the frame where the
+  // head's rotation has carried half of an eye's probe samples 2 px since the last such frame, a sample whose
+  // 4x4 block still matches its block of then at the same pixel, and not where the world carried it,
+  // testifies head-locked; 8 samples that testified so in 2 such frames and never for the world decide.
+  // false: round 41's default.
+  bool steadyHeadLockedSwitch = true;
   // Round 20 (the default): the 8-bit output keeps the code it showed last frame (at the texel the
   // reprojection came from) while the filtered estimate lies within 1/2 + steadyOutputHold codes of it
   // and moved by less than half a code since last frame (round 21: in codes through the encoding's
@@ -348,5 +357,12 @@ std::string methodName(const Params& p);  // inverse of applyMethodName
 // Checks ranges (NaN, negative, out of [0,1], ...). Returns an empty string when valid, else a
 // human-readable message naming the first bad field; `sanitized` gets safe defaults for bad fields.
 std::string validate(const Params& p, Params* sanitized = nullptr);
+
+// The profile hud (README, "An app that draws its HUD into the eye images"; the layer's config names it
+// `profile = hud`) over `p`: item 3's blur budget at a tenth of a pixel's spread (round 11: the budget
+// across an edge that does not move with the world is what rings around a HUD) and a clip box that reaches
+// out to the frame's own estimate.
+inline constexpr float kHudBlurBudgetPx2 = 0.0104f;
+Params withHudProfile(Params p);
 
 }  // namespace steadyxr::core
