@@ -33,10 +33,8 @@ bool carriedHalfTheSamples(const glm::mat4& referenceToNow, VkExtent2D size, int
 }  // namespace
 
 VkExtent2D headLockedRecordExtent(VkExtent2D eyeSize, int32_t blockPx) {
-  const auto along = [blockPx](uint32_t n) {
-    return static_cast<uint32_t>((int64_t(n) + blockPx / 2 - 1) / blockPx);
-  };
-  return {along(eyeSize.width), along(eyeSize.height)};
+  return {static_cast<uint32_t>(probeSamplesAlong(eyeSize.width, blockPx)),
+          static_cast<uint32_t>(probeSamplesAlong(eyeSize.height, blockPx))};
 }
 
 std::array<HeadLockedEyeStep, 2> HeadLockedSwitch::plan(const StereoFrame& frame,

@@ -180,11 +180,17 @@ PassDispatch temporalPass(const PassContext& c, uint32_t e) {
   return d;
 }
 
+int64_t probeSamplesAlong(int64_t pixels, int32_t blockPx) {
+  return std::max<int64_t>(0, (pixels + blockPx / 2 - 1) / blockPx);
+}
+
 int64_t probeSamples(int32_t width, int32_t height, int32_t blockPx) {
-  const auto along = [blockPx](int32_t n) {
-    return std::max<int64_t>(0, (int64_t(n) + blockPx / 2 - 1) / blockPx);
-  };
-  return along(width) * along(height);
+  return probeSamplesAlong(width, blockPx) * probeSamplesAlong(height, blockPx);
+}
+
+bool probeRuns(const Params& params, const FramePlan& plan) {
+  return plan.temporal && plan.firstStage && params.temporal == TemporalMethod::Steady &&
+         (params.steadyNoiseEstimate || params.steadyGainCompensation);
 }
 
 int32_t probeBlockPx(int32_t width, int32_t height) {

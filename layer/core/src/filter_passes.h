@@ -135,7 +135,11 @@ PassDispatch probePass(const PassContext& c, uint32_t e);
 constexpr int32_t kProbeSmallestBlockPx = 4;
 constexpr int64_t kProbeSamplesPerEye = 1024;
 int64_t probeSamples(int32_t width, int32_t height, int32_t blockPx);
+int64_t probeSamplesAlong(int64_t pixels, int32_t blockPx);  // along one side: probeSamples is their product
 int32_t probeBlockPx(int32_t width, int32_t height);
+// Whether the frame runs steady's probe: for its noise samples (Params::steadyNoiseEstimate) or its gain
+// (Params::steadyGainCompensation), before steady's temporal passes.
+bool probeRuns(const Params& params, const FramePlan& plan);
 // The stereo pass of eye e: this eye blended with the other (seed 002 §4.1), into the output.
 PassDispatch stereoPass(const PassContext& c, uint32_t e);
 

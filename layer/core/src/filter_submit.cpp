@@ -103,9 +103,7 @@ void Filter::Impl::applyPendingParams() {
 }
 
 bool Filter::Impl::planHeadLocked(const StereoFrame& frame, FramePlan& plan, std::string* error) {
-  const bool probes = plan.temporal && plan.firstStage && params.temporal == TemporalMethod::Steady &&
-                      (params.steadyNoiseEstimate || params.steadyGainCompensation);  // recordPasses
-  if (!params.steadyHeadLockedSwitch || !probes) return true;
+  if (!params.steadyHeadLockedSwitch || !detail::probeRuns(params, plan)) return true;
   std::array<int32_t, 2> blockPx{};
   bool jittered = params.jitteredInput;
   for (uint32_t e = 0; e < plan.viewCount; ++e) {
@@ -362,13 +360,13 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
   s.noiseSampled = steady && plan.firstStage && params.steadyNoiseEstimate;
   s.gainProbed = false;
   const bool probesGain = steady && plan.firstStage && params.steadyGainCompensation;
-  s.headLockedTestified = (s.noiseSampled || probesGain) &&
-                          std::any_of(plan.headLocked.begin(), plan.headLocked.end(), [](const auto& h) {
-                            return h.step == detail::HeadLockedStep::Testify;
-                          });
-  if (s.noiseSampled || probesGain) zeroRecords(s);
+  const bool probes = detail::probeRuns(params, plan);  // for the noise samples, the gain or both
+  s.headLockedTestified =
+      probes && std::any_of(plan.headLocked.begin(), plan.headLocked.end(),
+                            [](const auto& h) { return h.step == detail::HeadLockedStep::Testify; });
+  if (probes) zeroRecords(s);
   bool ok = true;
-  if (s.noiseSampled || probesGain) ok = recordProbes(rec, c, probesGain, error);
+  if (probes) ok = recordProbes(rec, c, probesGain, error);
   if (ok && plan.firstStage) {
     for (uint32_t e = 0; e < plan.viewCount && ok; ++e) {
       const PassDispatch d = plan.temporal ? temporalPass(c, e) : plan.fxaa ? fxaaPass(c, e) : copyPass(c, e);
