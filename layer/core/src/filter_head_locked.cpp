@@ -2,16 +2,13 @@
 
 #include <glm/geometric.hpp>
 
+#include "filter_formats.h"
 #include "filter_geometry.h"
 #include "filter_passes.h"
 
 namespace steadyxr::core::detail {
 
 namespace {
-
-bool sameSize(VkExtent2D a, VkExtent2D b) {
-  return a.width == b.width && a.height == b.height;
-}
 
 // Whether the rotation since the reference has carried at least half of the eye's samples (those whose block
 // lies inside the eye) kHeadLockedShiftPx or more.
@@ -55,7 +52,7 @@ std::array<HeadLockedEyeStep, 2> HeadLockedSwitch::plan(const StereoFrame& frame
   bool newStart = false;
   for (uint32_t e = 0; e < n; ++e)
     newStart = newStart || !reference_[e] ||
-               !sameSize(reference_[e]->size, frame.views[e].color.rect.extent) ||
+               !sameExtent(reference_[e]->size, frame.views[e].color.rect.extent) ||
                reference_[e]->blockPx != probeBlockPx[e];
   if (newStart) {  // the first frame, or the samples lie elsewhere now: their testimonies start again
     for (uint32_t e = 0; e < n; ++e) steps[e].step = HeadLockedStep::TakeReference;

@@ -70,7 +70,9 @@ struct Filter::Impl {
   void collectFinished();         // collect() of every slot whose frame has finished, without waiting
   void waitAll();
   static const uint32_t* noiseBins(const detail::Slot& s);  // the slot's records as the host reads them
-  void readGainProbe(const detail::Slot& s);                // the slot's gain record into gainProbe (collect)
+  static const uint32_t* gainRecord(
+      const detail::Slot& s);                 // the gain record among them (and round 42's count)
+  void readGainProbe(const detail::Slot& s);  // the slot's gain record into gainProbe (collect)
 
   // submit and its steps, in order (filter_submit.cpp).
   bool submit(const StereoFrame& frame, const StereoOutput& output, std::string* error, VkSemaphore signal);

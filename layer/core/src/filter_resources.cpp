@@ -232,9 +232,7 @@ void Filter::Impl::collect(Slot& s) {
   if (s.gainProbed) readGainProbe(s);
   s.gainProbed = false;
   if (s.headLockedTestified)
-    headLocked.noteSteadySamples(
-        noiseBins(s)[detail::kNoiseBufferBytes / sizeof(uint32_t) + detail::kHeadLockedCountWord],
-        s.frameIndex);
+    headLocked.noteSteadySamples(gainRecord(s)[detail::kHeadLockedCountWord], s.frameIndex);
   s.headLockedTestified = false;
   if (!s.timed || !s.queries) return;
   std::array<uint64_t, kQueries> ts{};
@@ -267,7 +265,7 @@ static_assert(detail::kHeadLockedCountWord >= detail::kGainRecordWords &&
               "the head-locked count has a word of its own on the gain record's line");
 
 void Filter::Impl::readGainProbe(const Slot& s) {
-  const uint32_t* record = noiseBins(s) + detail::kNoiseBufferBytes / sizeof(uint32_t);  // temporal.comp
+  const uint32_t* record = gainRecord(s);
   const uint32_t samples = record[3];
   if (samples == 0 || (gainProbe && gainProbe->frameIndex > s.frameIndex)) return;  // keep the newest
   const double toMean = 1.0 / (detail::kLumaSumScale * samples);
@@ -284,6 +282,11 @@ void Filter::Impl::readGainProbe(const Slot& s) {
 
 const uint32_t* Filter::Impl::noiseBins(const Slot& s) {
   return static_cast<const uint32_t*>(s.recordsMapped);
+}
+
+const uint32_t* Filter::Impl::gainRecord(const Slot& s) {
+  return noiseBins(s) +
+         detail::kNoiseBufferBytes / sizeof(uint32_t);  // after the noise record (temporal.comp)
 }
 
 }  // namespace steadyxr::core
