@@ -9,6 +9,8 @@ method named by --check breaks the promise on either (mean above none, a frame a
 
   python3 eval/overlay_report.py OUT [OUT ...] [--check default] [--limit 1.10]
   python3 eval/overlay_report.py STRESS_OUT/runs/* --column rmse_border   # a stress draw's HUD cases
+  python3 eval/overlay_report.py OUT --column rmse_border --from-frame 48  # after the head-locked switch's
+                                                                          # first epochs (rounds 41-43)
 """
 
 import argparse
@@ -22,12 +24,13 @@ from collections import defaultdict
 EIGHT_BIT_RMSE_FLOOR = 1.0 / (255.0 * math.sqrt(12.0))
 
 
-def read_series(path, column):
-    """{(case, method): {frame: value}}"""
+def read_series(path, column, from_frame=0):
+    """{(case, method): {frame: value}}, frames from_frame on"""
     series = defaultdict(dict)
     with open(path, newline="") as f:
         for row in csv.DictReader(f):
-            series[(row["scenario"], row["method"])][int(row["frame"])] = float(row[column])
+            if int(row["frame"]) >= from_frame:
+                series[(row["scenario"], row["method"])][int(row["frame"])] = float(row[column])
     return series
 
 
@@ -47,6 +50,7 @@ def main(argv):
     p.add_argument("--column", default="rmse_overlay",
                    help="overlay.csv column: rmse_overlay (the dilated mask), rmse_core (the overlay's own "
                         "pixels), rmse_border (the one-pixel ring of world pixels around it)")
+    p.add_argument("--from-frame", type=int, default=0, help="only frames from this one on (both columns)")
     args = p.parse_args(argv)
     rows = []
     # A stress draw's runs (OUT/runs/*) mix head-locked cases with others: only folders that have an
@@ -56,8 +60,8 @@ def main(argv):
         print(f"skipped {len(args.dirs) - len(with_overlay)} folder(s) without overlay.csv (no head-locked content)",
               file=sys.stderr)
     for d in with_overlay:
-        whole = read_series(f"{d}/timeseries.csv", "rmse")
-        overlay = read_series(f"{d}/overlay.csv", args.column)
+        whole = read_series(f"{d}/timeseries.csv", "rmse", args.from_frame)
+        overlay = read_series(f"{d}/overlay.csv", args.column, args.from_frame)
         for (case, method), frames in sorted(overlay.items()):
             if method == "none" or (case, "none") not in overlay:
                 continue

@@ -180,6 +180,13 @@ float displayedBlockAt(vec2 q) {
   }
   return sum * (1.0 / 16.0);
 }
+// The block mean at a texel corner (texels corner - 2 .. corner + 1).
+float displayedBlockAtCorner(ivec2 corner) {
+  float sum = 0.0;
+  [[unroll]] for (int y = -2; y <= 1; ++y)
+    [[unroll]] for (int x = -2; x <= 1; ++x) sum += displayedLuma(fetchSrc0(corner + ivec2(x, y)));
+  return sum * (1.0 / 16.0);
+}
 // A block's 16 texels inside the eye.
 bool blockInside(vec2 corner) {
   return all(greaterThanEqual(corner, vec2(2.0))) && all(lessThanEqual(corner, vec2(P.src0Size) - 2.0));
@@ -208,7 +215,11 @@ float headLockedMatch(float displayedLevel) {
 // reference's p, at p - d head-locked content shows the reference's p - d. Both must differ from the block
 // at p by a mismatch (a near-flat picture, aliasing's slow moire, a flat patch beside an edge the rotation
 // does not explain: no evidence). It counts once it testified head-locked in two epochs and never for the
-// world.
+// world. Round 43: content drawn without filtering (a texture's nearest texel, unresolved geometry) moves in
+// whole pixels: an edge across a move of d shows moved by floor(d) or ceil(d) on each axis, and under a move
+// of less than a pixel across it stays put, as a HUD would (held-out text under a nod decided so). So the
+// world's prediction is also the block at each of the four roundings of d, and a sample testifies only where
+// every prediction differs from the head-locked one.
 void observeHeadLocked(ivec2 sampleIndex, ivec2 p, const vec3 window[25], bool jittered) {
   const vec2 here = vec2(p);
   if (!blockInside(here)) return;
@@ -226,8 +237,22 @@ void observeHeadLocked(ivec2 sampleIndex, ivec2 p, const vec3 window[25], bool j
       if (distance(there, here) >= kHeadLockedShiftPx && blockInside(there) && blockInside(mirrored)) {
         const float carried = displayedBlockAt(there), before = record.r + record.a;
         const float match = headLockedMatch(before), mismatch = 4.0 * match;
-        if (abs(now - carried) > mismatch && abs(now - displayedBlockAt(mirrored)) > mismatch) {
-          const float headLockedResidual = abs(now - before), worldResidual = abs(carried - before);
+        bool distinct = abs(now - carried) > mismatch && abs(now - displayedBlockAt(mirrored)) > mismatch;
+        float worldResidual = abs(carried - before);
+        const vec2 move = there - here;
+        for (int rounding = 0; rounding < 4 && distinct; ++rounding) {
+          const ivec2 step = ivec2((rounding & 1) != 0 ? ceil(move.x) : floor(move.x),
+                                   (rounding & 2) != 0 ? ceil(move.y) : floor(move.y));
+          if (!blockInside(vec2(p + step)) || !blockInside(vec2(p - step))) {
+            distinct = false;
+            break;
+          }
+          const float carriedWhole = displayedBlockAtCorner(p + step);
+          distinct = abs(now - carriedWhole) > mismatch && abs(now - displayedBlockAtCorner(p - step)) > mismatch;
+          worldResidual = min(worldResidual, abs(carriedWhole - before));
+        }
+        if (distinct) {
+          const float headLockedResidual = abs(now - before);
           if (headLockedResidual <= match && worldResidual > mismatch)
             headLocked = min(headLocked + 1.0, kHeadLockedMostTestimonies);
           if (worldResidual <= match && headLockedResidual > mismatch)

@@ -6,10 +6,12 @@
 // rotation has carried half of an eye's probe samples kHeadLockedShiftPx away from where they were in it
 // ends the epoch. In that frame the probe (shaders/probe.glsl, observeHeadLocked) compares each sample's 4x4
 // block of displayed luma with the reference's, kept per sample in the eye's record image: matched at the
-// same pixel and not where the world carried it, the sample testifies head-locked; the reverse, world. The
-// frame becomes the new reference. The probe counts the samples that have testified head-locked in 2
-// epochs and never for the world; the host reads the count back with the frame's records, and
-// kHeadLockedEvidenceSamples of them decide for the session.
+// same pixel and not where the world carried it, the sample testifies head-locked; the reverse, world. Since
+// round 43 the world may also have moved by whole pixels (content drawn without filtering), so where it
+// carried a sample is also each of the four roundings of its move. The frame becomes the new reference.
+// The probe counts the samples that have testified head-locked in 2 epochs and never for the world; the
+// host reads the count back with the frame's records, and kHeadLockedEvidenceSamples of them decide for the
+// session.
 #pragma once
 
 #include <array>
