@@ -241,14 +241,15 @@ void observeHeadLocked(ivec2 sampleIndex, ivec2 p, const vec3 window[25], bool j
         float worldResidual = abs(carried - before);
         const vec2 move = there - here;
         for (int rounding = 0; rounding < 4 && distinct; ++rounding) {
-          const ivec2 step = ivec2((rounding & 1) != 0 ? ceil(move.x) : floor(move.x),
-                                   (rounding & 2) != 0 ? ceil(move.y) : floor(move.y));
-          if (!blockInside(vec2(p + step)) || !blockInside(vec2(p - step))) {
+          const ivec2 wholeMove = ivec2((rounding & 1) != 0 ? ceil(move.x) : floor(move.x),
+                                        (rounding & 2) != 0 ? ceil(move.y) : floor(move.y));
+          if (!blockInside(vec2(p + wholeMove)) || !blockInside(vec2(p - wholeMove))) {
             distinct = false;
             break;
           }
-          const float carriedWhole = displayedBlockAtCorner(p + step);
-          distinct = abs(now - carriedWhole) > mismatch && abs(now - displayedBlockAtCorner(p - step)) > mismatch;
+          const float carriedWhole = displayedBlockAtCorner(p + wholeMove);
+          distinct =
+              abs(now - carriedWhole) > mismatch && abs(now - displayedBlockAtCorner(p - wholeMove)) > mismatch;
           worldResidual = min(worldResidual, abs(carriedWhole - before));
         }
         if (distinct) {
