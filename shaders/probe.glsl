@@ -180,13 +180,6 @@ float displayedBlockAt(vec2 q) {
   }
   return sum * (1.0 / 16.0);
 }
-// The block mean at a texel corner (texels corner - 2 .. corner + 1).
-float displayedBlockAtCorner(ivec2 corner) {
-  float sum = 0.0;
-  [[unroll]] for (int y = -2; y <= 1; ++y)
-    [[unroll]] for (int x = -2; x <= 1; ++x) sum += displayedLuma(fetchSrc0(corner + ivec2(x, y)));
-  return sum * (1.0 / 16.0);
-}
 // A block's 16 texels inside the eye.
 bool blockInside(vec2 corner) {
   return all(greaterThanEqual(corner, vec2(2.0))) && all(lessThanEqual(corner, vec2(P.src0Size) - 2.0));
@@ -247,9 +240,9 @@ void observeHeadLocked(ivec2 sampleIndex, ivec2 p, const vec3 window[25], bool j
             distinct = false;
             break;
           }
-          const float carriedWhole = displayedBlockAtCorner(p + wholeMove);
-          distinct =
-              abs(now - carriedWhole) > mismatch && abs(now - displayedBlockAtCorner(p - wholeMove)) > mismatch;
+          // At a texel corner displayedBlockAt weighs its fifth row and column by 0: the 4x4 block there.
+          const float carriedWhole = displayedBlockAt(vec2(p + wholeMove));
+          distinct = abs(now - carriedWhole) > mismatch && abs(now - displayedBlockAt(vec2(p - wholeMove))) > mismatch;
           worldResidual = min(worldResidual, abs(carriedWhole - before));
         }
         if (distinct) {
