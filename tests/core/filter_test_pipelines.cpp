@@ -2,6 +2,7 @@
 // the jittered fetch at zero jitter) and the background compile.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
@@ -140,4 +141,85 @@ TEST_F(CoreTest, BackgroundCompileRefusesFramesUntilReady) {
   EXPECT_GT(f->pipelines().size(), copyOnly->pipelines().size());
   EXPECT_EQ(fresh->validationMessageCount(), 0u)
       << "validation: " << (fresh->validationMessages().empty() ? "" : fresh->validationMessages().front());
+}
+
+// The default filters a frame only once both of its probes are made (round 44): the plain probe that most
+// frames run, and the head-locked switch's, which the frames that start or end an epoch run and which may
+// be missing (the switch then skips the epoch). Worker threads finish the two in any order. When the
+// switch's came first, the frames that started an epoch were filtered and the frames after them passed
+// through while the plain probe compiled, each restarting the history and the epochs: filtered and passed
+// through in turn at a session's start (and, on a loaded machine, a layer session test that failed at
+// times). The test holds each probe back in turn (FilterOptions::holdBackForTests) under a still head,
+// whose every other frame starts an epoch while frames pass through.
+TEST_F(CoreTest, FramesWaitForThePlainProbeButNotForTheHeadLockedOne) {
+  const uint32_t W = 40, H = 32;
+  constexpr int32_t kProbeBit = 128, kObservationBit = 8192;  // passSpecKey's, in specialisation[14]
+  const auto isProbe = [&](const PipelineDescription& d, bool observing) {
+    return d.pass == "temporal" && d.specialisation.size() == 15 && (d.specialisation[14] & kProbeBit) != 0 &&
+           ((d.specialisation[14] & kObservationBit) != 0) == observing;
+  };
+  const auto made = [&](const Filter& f, bool observing) {
+    const auto pipelines = f.pipelines();
+    return std::any_of(pipelines.begin(), pipelines.end(),
+                       [&](const auto& d) { return isProbe(d, observing); });
+  };
+  const auto writesOutput = [](const Filter& f) {
+    const auto pipelines = f.pipelines();
+    return std::any_of(pipelines.begin(), pipelines.end(), [](const PipelineDescription& d) {
+      return d.pass == "temporal" && d.specialisation.size() == 15 && d.specialisation[2] == 1;
+    });
+  };
+  Frame fr;
+  fr.views = {eye(0.3f, 0.1f, {-0.032f, 0, 0}), eye(0.3f, 0.1f, {0.032f, 0, 0})};
+  fr.color = {pattern(W, H, 71), pattern(W, H, 72)};
+  const Params p = *applyMethodName("default");
+  ASSERT_TRUE(p.steadyHeadLockedSwitch);
+  std::string err;
+
+  // The plain probe held back: no frame is filtered, also once the switch's probe and the pass are made.
+  bool holdPlain = true;
+  FilterOptions options;
+  options.compileInBackground = true;
+  options.holdBackForTests = [&](const PipelineDescription& d) { return holdPlain && isProbe(d, false); };
+  auto f = Filter::create(*gCtx, p, &err, options);
+  ASSERT_TRUE(f) << err;
+  Rig rig(W, H);
+  bool submitted = false;
+  int filtered = 0;
+  for (int i = 0; i < 6000 && !(made(*f, true) && writesOutput(*f)); ++i) {  // a minute at most
+    rig.run(*f, fr, 2, &submitted);
+    filtered += submitted ? 1 : 0;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(made(*f, true) && writesOutput(*f));
+  for (int i = 0; i < 8; ++i) {
+    rig.run(*f, fr, 2, &submitted);
+    filtered += submitted ? 1 : 0;
+  }
+  EXPECT_EQ(filtered, 0) << "frames filtered while the plain probe was still compiling";
+  EXPECT_TRUE(f->compiling());
+  holdPlain = false;  // made: from the next frame on, every frame is filtered
+  for (int i = 0; i < 8; ++i) {
+    rig.run(*f, fr, 2, &submitted);
+    EXPECT_TRUE(submitted) << "frame " << i << " after the plain probe was made";
+  }
+
+  // The switch's probe held back: frames are filtered without it (the epochs wait), every one.
+  FilterOptions withoutSwitch;
+  withoutSwitch.compileInBackground = true;
+  withoutSwitch.holdBackForTests = [&](const PipelineDescription& d) { return isProbe(d, true); };
+  auto g = Filter::create(*gCtx, p, &err, withoutSwitch);
+  ASSERT_TRUE(g) << err;
+  Rig other(W, H);
+  submitted = false;
+  for (int i = 0; i < 6000 && !submitted; ++i) {
+    other.run(*g, fr, 2, &submitted);
+    if (!submitted) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(submitted);
+  for (int i = 0; i < 8; ++i) {
+    other.run(*g, fr, 2, &submitted);
+    EXPECT_TRUE(submitted) << "frame " << i << " without the head-locked switch's probe";
+  }
+  EXPECT_FALSE(made(*g, true));
 }

@@ -143,13 +143,16 @@ class App {
     const auto n = static_cast<uint32_t>(out.images.size());
     return out.images[(out.nextIndex + n - 1) % n]->download(0, kRenderedLayout);  // released last
   }
-  // Frames until the first is filtered (the pipelines compile in the background).
-  bool warmUp() {
-    for (int i = 0; i < 400; ++i) {
+  // Frames until the first is filtered (the pipelines compile in the background). The deadline is wall
+  // time and generous: under a loaded ctest -j, with Mesa's shader cache cold, lavapipe's compiles of the
+  // default's pipelines take seconds, and a test that gives up early fails for the machine's load.
+  bool warmUp(std::chrono::seconds deadline = std::chrono::seconds(120)) {
+    const auto giveUp = std::chrono::steady_clock::now() + deadline;
+    do {
       frame();
       if (session_->stats().framesFiltered > 0) return true;
       std::this_thread::sleep_for(std::chrono::milliseconds(25));
-    }
+    } while (std::chrono::steady_clock::now() < giveUp);
     return false;
   }
   uint64_t passed(PassReason r) { return session_->stats().passed[static_cast<size_t>(r)]; }

@@ -102,8 +102,9 @@ TEST_F(SessionTest, NoLayerLockIsHeldAcrossRuntimeCallsInEndFrame) {
       app.session_->locateViews(nullptr, nullptr, 0, &count, nullptr);
       done->set_value();
     });
-    // Not joined here: with a lock held across this call the thread could only finish after it.
-    if (ready.wait_for(std::chrono::seconds(3)) == std::future_status::ready) ++completed;
+    // Not joined here: with a lock held across this call the thread could only finish after it, so it
+    // cannot be ready within any wait; the wait is long only so that a loaded machine does not fail it.
+    if (ready.wait_for(std::chrono::seconds(30)) == std::future_status::ready) ++completed;
   };
   fake.duringOutputWait = otherThread;
   fake.duringEndFrame = otherThread;

@@ -55,7 +55,7 @@ struct Filter::Impl {
         device(c.device()),
         setLayout(store.setLayout()),
         pipelineLayout(store.layout()),
-        pipelines(store, options.compileInBackground) {}
+        pipelines(store, options) {}
   ~Impl() { waitAll(); }
 
   // Resources (filter_resources.cpp).

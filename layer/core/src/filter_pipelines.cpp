@@ -173,30 +173,38 @@ VkPipeline PipelineStore::get(const PipelineKey& key, bool background, bool* com
   return c.pipeline;
 }
 
-VkPipeline PipelineCache::get(Pass pass, OutFmt fmt, const SpecKey& spec, std::string* error) {
-  const PipelineKey key{pass, fmt, spec};
+namespace {
+PipelineDescription describe(const PipelineKey& key) {
+  const auto& [pass, fmt, spec] = key;
+  return {passName(pass), outFmtName(fmt), std::vector<int32_t>(spec.begin(), spec.end())};
+}
+}  // namespace
+
+VkPipeline PipelineCache::getOrHoldBack(const PipelineKey& key, bool* stillCompiling, std::string* error) {
   if (const auto it = used_.find(key); it != used_.end()) return it->second;  // every frame: no lock
-  const VkPipeline p = store_.get(key, background_, &compiling, error);
+  const VkPipeline p = store_.get(key, background_, stillCompiling, error);
+  if (p && holdBack_ && holdBack_(describe(key))) {
+    *stillCompiling = true;
+    fail(error, "the filter's pipelines are still compiling");
+    return VK_NULL_HANDLE;
+  }
   if (p) used_.emplace(key, p);
   return p;
 }
 
+VkPipeline PipelineCache::get(Pass pass, OutFmt fmt, const SpecKey& spec, std::string* error) {
+  return getOrHoldBack({pass, fmt, spec}, &compiling, error);
+}
+
 VkPipeline PipelineCache::ready(Pass pass, OutFmt fmt, const SpecKey& spec) {
-  const PipelineKey key{pass, fmt, spec};
-  if (const auto it = used_.find(key); it != used_.end()) return it->second;
   bool stillCompiling = false;
   std::string error;
-  const VkPipeline p = store_.get(key, background_, &stillCompiling, &error);
-  if (p) used_.emplace(key, p);
-  return p;
+  return getOrHoldBack({pass, fmt, spec}, &stillCompiling, &error);
 }
 
 std::vector<PipelineDescription> PipelineCache::made() const {
   std::vector<PipelineDescription> out;
-  for (const auto& [key, pipeline] : used_) {
-    const auto& [pass, fmt, spec] = key;
-    out.push_back({passName(pass), outFmtName(fmt), std::vector<int32_t>(spec.begin(), spec.end())});
-  }
+  for (const auto& [key, pipeline] : used_) out.push_back(describe(key));
   return out;
 }
 

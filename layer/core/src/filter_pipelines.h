@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <future>
 #include <map>
 #include <mutex>
@@ -93,8 +94,8 @@ class PipelineStore {
 // While one compiles, get() returns null and sets compiling, and the caller passes the frame through.
 class PipelineCache {
  public:
-  PipelineCache(PipelineStore& store, bool compileInBackground)
-      : store_(store), background_(compileInBackground) {}
+  PipelineCache(PipelineStore& store, const FilterOptions& options)
+      : store_(store), background_(options.compileInBackground), holdBack_(options.holdBackForTests) {}
 
   VkPipeline get(Pass pass, OutFmt fmt, const SpecKey& spec, std::string* error);
   // The same, for a pipeline a later frame may need (round 42: the head-locked switch's probe): null while it
@@ -104,9 +105,12 @@ class PipelineCache {
   bool compiling = false;                         // a get() of this frame found its pipeline still compiling
 
  private:
+  VkPipeline getOrHoldBack(const PipelineKey& key, bool* stillCompiling, std::string* error);
+
   PipelineStore& store_;
   bool background_;
-  std::map<PipelineKey, VkPipeline> used_;  // the store's, which outlives the filter
+  std::function<bool(const PipelineDescription&)> holdBack_;  // FilterOptions::holdBackForTests
+  std::map<PipelineKey, VkPipeline> used_;                    // the store's, which outlives the filter
 };
 
 }  // namespace steadyxr::core::detail

@@ -429,6 +429,15 @@ bool Filter::Impl::recordProbes(Recording& rec, const PassContext& c, bool probe
       headLocked.restartEpochs();
       rec.slot.headLockedTestified = false;
     }
+    // Round 44: an epoch's frame waits for the plain probe too, which every other frame runs. Filtered
+    // before it is made, it would be followed by frames that pass through while it compiles, each one
+    // restarting the history and the epochs (filtered and passed through in turn).
+    for (uint32_t e = 0; e < c.plan.viewCount && probes[e].uniforms.headLockedStep != 0; ++e) {
+      PassDispatch plain = probes[e];
+      plain.uniforms.headLockedStep = 0;
+      if (!pipelines.get(plain.pass, plain.fmt, specKeyOf(plain), error) && !pipelines.compiling)
+        return false;
+    }
   }
   // Every frame, also one without a history (the probe then adds no gain): its pipeline is asked for with
   // the temporal pass's, so no later frame waits for it to compile (and passes through meanwhile).

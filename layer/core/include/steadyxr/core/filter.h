@@ -7,6 +7,7 @@
 #include "steadyxr/core/vulkan_context.h"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -19,6 +20,14 @@ namespace steadyxr::core {
 // the stereo pass (which reads the history as it is) and with the bilinear history filter, else
 // RGBA16F.
 VkFormat historyFormat(const Params& params, VkFormat inputFormat);
+
+// One compute pipeline the filter made (diagnostics): its pass (copy, temporal, stereo, fxaa), the storage
+// format it writes (rgba8, rgba16f) and its specialisation constants in constant_id order (common.glsl).
+struct PipelineDescription {
+  std::string pass;
+  std::string storage;
+  std::vector<int32_t> specialisation;
+};
 
 // Input images need VK_IMAGE_USAGE_SAMPLED_BIT. Output images need VK_IMAGE_USAGE_STORAGE_BIT
 // (with a storage-capable format, or mutableFormat so the core can make a UNORM view of an SRGB
@@ -37,14 +46,9 @@ struct FilterOptions {
   // lavapipe). A host app's frame loop (the layer) wants this; tests and benchmarks want every
   // frame filtered.
   bool compileInBackground = false;
-};
-
-// One compute pipeline the filter made (diagnostics): its pass (copy, temporal, stereo, fxaa), the storage
-// format it writes (rgba8, rgba16f) and its specialisation constants in constant_id order (common.glsl).
-struct PipelineDescription {
-  std::string pass;
-  std::string storage;
-  std::vector<int32_t> specialisation;
+  // Tests only: a pipeline for which this returns true counts as still compiling (its compile runs
+  // as usual), so that a test can order the compiles that worker threads finish in any order.
+  std::function<bool(const PipelineDescription&)> holdBackForTests;
 };
 
 // Round 42: the head-locked switch's evidence (Filter::headLockedEvidence). Frames are counted by submit,
