@@ -105,6 +105,10 @@ def parse_args(argv):
     unknown = [k for k in args.pictures.split(",") if k not in stress_pictures.KINDS]
     if unknown or not args.pictures:
         p.error(f"--pictures: unknown kind(s) {','.join(unknown)}; the kinds: {','.join(stress_pictures.KINDS)}")
+    scenes = list(SCENE_WEIGHTS) + list(OPT_IN_SCENE_WEIGHTS)
+    unknown = [k for k in args.scenes.split(",") if k not in scenes]
+    if unknown or not args.scenes:  # before anything is drawn: an eval run would fail on each such case
+        p.error(f"--scenes: unknown scene(s) {','.join(unknown)}; the scenes: {','.join(scenes)}")
     motion_kinds = stress_motion.KINDS + stress_motion.OPT_IN_KINDS
     unknown = [k for k in args.motions.split(",") if k not in motion_kinds]
     if unknown or not args.motions:

@@ -155,6 +155,7 @@ plain = stress.draw_case(61, 4, every)
 assert {k: v for k, v in named[4].items() if k not in ("picture_kind", "rng")} == \
     {k: v for k, v in plain.items() if k not in ("picture_kind", "rng")}
 expect_refused(["--pictures", "lines,photos"], "unknown kind(s) photos")
+expect_refused(["--scenes", "imageviewer,depth"], "unknown scene(s) depth")  # round 44: each case's eval failed
 # --locomotion-fraction: every drawn rig motion is one the eval reads, within a game's settings, and
 # it changes nothing else of a case (earlier seeds draw what they drew); a walk ahead stops 0.5 m short
 # of the picture at 1.5 m over the half of the run the stick is held (eval/locomotion.h).
