@@ -221,5 +221,6 @@ TEST_F(CoreTest, FramesWaitForThePlainProbeButNotForTheHeadLockedOne) {
     other.run(*g, fr, 2, &submitted);
     EXPECT_TRUE(submitted) << "frame " << i << " without the head-locked switch's probe";
   }
+  EXPECT_TRUE(made(*g, false));
   EXPECT_FALSE(made(*g, true));
 }

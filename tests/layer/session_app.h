@@ -146,8 +146,8 @@ class App {
   // Frames until the first is filtered (the pipelines compile in the background). The deadline is wall
   // time and generous: under a loaded ctest -j, with Mesa's shader cache cold, lavapipe's compiles of the
   // default's pipelines take seconds, and a test that gives up early fails for the machine's load.
-  bool warmUp(std::chrono::seconds deadline = std::chrono::seconds(120)) {
-    const auto giveUp = std::chrono::steady_clock::now() + deadline;
+  bool warmUp() {
+    const auto giveUp = std::chrono::steady_clock::now() + std::chrono::seconds(120);
     do {
       frame();
       if (session_->stats().framesFiltered > 0) return true;
