@@ -251,8 +251,9 @@ TEST_F(Cli, StatusListsLiveInstancesAndRemovesStaleOnes) {
         "pid=" + std::to_string(self) + "\nprocess_start_ticks=" + std::to_string(ticks) +
             "\napp=hello_xr\nstate=filtering\nenabled=1\nmethod=default\npasses=hybrid+stereo\n"
             "pose_source=runtime\nframes_filtered=120\nframes_passed_through=2\npassed_format=2\n"
-            "frames_warming_up=3\nframes_disabled=0\ngpu_ms_temporal=2.900\ngpu_ms_stereo=2.100\n"
-            "gpu_ms_other=0.200\ngpu_ms_total=5.200\nconfig=/c.conf\nconfig_generation=2\n");
+            "frames_warming_up=3\nframes_warming_up_late=1\nframes_disabled=0\n"
+            "gpu_ms_temporal=2.900\ngpu_ms_stereo=2.100\ngpu_ms_other=0.200\ngpu_ms_total=5.200\n"
+            "config=/c.conf\nconfig_generation=2\n");
   // The same pid but another start time: the pid was reused after the writer died.
   write(folder + "/" + std::to_string(self) + "-2.status",
         "pid=" + std::to_string(self) + "\nprocess_start_ticks=" + std::to_string(ticks + 1) + "\napp=old\n");
@@ -267,7 +268,8 @@ TEST_F(Cli, StatusListsLiveInstancesAndRemovesStaleOnes) {
                    "): filtering, method default (hybrid+stereo), enabled 1, pose runtime"),
             std::string::npos)
       << o;
-  EXPECT_NE(o.find("frames: 120 filtered, 2 passed through (format=2), 3 warming up, 0 disabled"),
+  EXPECT_NE(o.find("frames: 120 filtered, 2 passed through (format=2), 3 warming up (1 after filtering "
+                   "began), 0 disabled"),
             std::string::npos)
       << o;
   EXPECT_NE(o.find("temporal 2.900, stereo 2.100, other 0.200, total 5.200"), std::string::npos) << o;

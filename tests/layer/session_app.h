@@ -9,6 +9,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -50,7 +51,8 @@ enum class Layout { SideBySide, Stacked };
 class App {
  public:
   explicit App(FakeRuntime& fake, Config cfg = {}, bool enumerate = true,
-               VkFormat format = VK_FORMAT_R8G8B8A8_UNORM, Layout layout = Layout::SideBySide)
+               VkFormat format = VK_FORMAT_R8G8B8A8_UNORM, Layout layout = Layout::SideBySide,
+               std::function<bool(const core::PipelineDescription&)> holdBack = {})
       : fake_(fake),
         layout_(layout),
         dir_(fs::temp_directory_path() / ("steadyxr-session-test-" + std::to_string(::getpid()))) {
@@ -63,6 +65,7 @@ class App {
     instance_->config = cfg;
     instance_->log = std::make_unique<Logger>(LogLevel::Info, cfg.logFile);
     instance_->vulkanApiVersion = VK_API_VERSION_1_1;
+    instance_->holdBackPipelinesForTests = std::move(holdBack);
     auto binding = makeXr<XrGraphicsBindingVulkanKHR>(XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR);
     binding.instance = gVk->instance();
     binding.physicalDevice = gVk->physicalDevice();

@@ -370,8 +370,11 @@ int status(const layer::EnvLookup& env, std::ostream& out, std::ostream& err) {
       if (k.starts_with("passed_")) reasons += (reasons.empty() ? "" : ", ") + k.substr(7) + "=" + v;
     }
     if (!reasons.empty()) out << " (" << reasons << ")";
-    out << ", " << field(s, "frames_warming_up", "0") << " warming up, " << field(s, "frames_disabled", "0")
-        << " disabled\n";
+    out << ", " << field(s, "frames_warming_up", "0") << " warming up";
+    // Compiles after filtering began (a method switched live) are the user's own doing: said apart.
+    if (const std::string late = field(s, "frames_warming_up_late", "0"); late != "0")
+      out << " (" << late << " after filtering began)";
+    out << ", " << field(s, "frames_disabled", "0") << " disabled\n";
     if (s.count("gpu_ms_total")) {
       out << "  gpu ms per frame (mean): temporal " << field(s, "gpu_ms_temporal") << ", stereo "
           << field(s, "gpu_ms_stereo") << ", other " << field(s, "gpu_ms_other") << ", total "

@@ -95,9 +95,9 @@ std::string SessionStats::summary() const {
   passedTotal -= warmingUp;
   os << "session summary: frames_filtered=" << framesFiltered << " left=" << viewsFiltered[0]
      << " right=" << viewsFiltered[1] << " frames_passed_through=" << passedTotal
-     << " frames_warming_up=" << warmingUp << " frames_empty=" << framesEmpty
-     << " frames_disabled=" << framesDisabled << " history_dropped=" << historyDropped
-     << " render_size_changes=" << renderSize.framesResized
+     << " frames_warming_up=" << warmingUp << " frames_warming_up_late=" << warmingUpLate
+     << " frames_empty=" << framesEmpty << " frames_disabled=" << framesDisabled
+     << " history_dropped=" << historyDropped << " render_size_changes=" << renderSize.framesResized
      << " history_kept_resized=" << renderSize.historyKeptResized
      << " images_reallocated=" << renderSize.imagesReallocated << " image_memory_mib=" << std::fixed
      << std::setprecision(1) << double(imageMemoryBytes) / (1024.0 * 1024.0) << std::defaultfloat;
@@ -228,6 +228,7 @@ bool Session::initFilter() {
   // Pipelines compile on worker threads: the app's first frames pass through instead of stalling.
   core::FilterOptions filterOptions;
   filterOptions.compileInBackground = true;
+  filterOptions.holdBackForTests = instance_->holdBackPipelinesForTests;
   filter_ = core::Filter::create(*vk_, sanitized, &error, filterOptions);
   if (!filter_) {
     log.log(LogLevel::Error, "cannot create the filter (" + error + "): passing frames through");

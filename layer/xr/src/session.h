@@ -16,6 +16,7 @@
 #include <array>
 #include <atomic>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -72,6 +73,8 @@ struct InstanceState {
   std::optional<uint32_t> vulkanApiVersion;
   std::unique_ptr<LiveConfig> live;    // edits of the config file while the app runs
   std::unique_ptr<StatusFile> status;  // $XDG_RUNTIME_DIR/steadyxr/<pid>-<n>.status
+  // For the layer's tests only (the layer never sets it): core::FilterOptions::holdBackForTests.
+  std::function<bool(const core::PipelineDescription&)> holdBackPipelinesForTests;
 };
 
 // A swapchain the layer owns (its output images). Destroys itself through the next layer.
@@ -124,6 +127,9 @@ struct SessionStats {
   uint64_t jitterUndone = 0;       // filtered views submitted with the jitter undone
   uint64_t jitterUnmatched = 0;    // filtered views whose fov was not one the layer jittered
   uint64_t historyDropped = 0;     // filtered frames that started without the history (HistoryContinuity)
+  // Of passed[Compiling], those after the first filtered frame: a method switched live, depth that the
+  // app starts to submit. Zero in a session that changes neither: filtering, once begun, goes on.
+  uint64_t warmingUpLate = 0;
   core::RenderSizeCounters renderSize;  // the app's changes of render size (dynamic resolution)
   uint64_t imageMemoryBytes = 0;        // the filter's own images (core::Filter::imageMemoryBytes)
   std::string summary() const;

@@ -415,7 +415,10 @@ void Session::countUnfiltered(const FrameScan& scan) {
 // Called with mutex_ held.
 void Session::passed(PassReason reason, const std::string& detail) {
   ++stats_.passed[static_cast<size_t>(reason)];
-  if (reason == PassReason::Compiling) return;  // expected for the first frames: logged once at info
+  if (reason == PassReason::Compiling) {  // expected for the first frames: logged once at info
+    if (stats_.framesFiltered > 0) ++stats_.warmingUpLate;
+    return;
+  }
   instance_->log->once(LogLevel::Warn, "pass-" + std::string(toString(reason)),
                        "passing frames through (" + std::string(toString(reason)) + "): " + detail);
 }

@@ -94,6 +94,7 @@ std::string Session::statusText() const {
     os << "passed_" << toString(static_cast<PassReason>(r)) << "=" << stats_.passed[r] << "\n";
   }
   os << "frames_warming_up=" << warmingUp << "\n";
+  os << "frames_warming_up_late=" << stats_.warmingUpLate << "\n";
   os << "frames_disabled=" << stats_.framesDisabled << "\n";
   os << "frames_empty=" << stats_.framesEmpty << "\n";
   os << "render_size_changes=" << stats_.renderSize.framesResized << "\n";

@@ -113,9 +113,13 @@ wait_for 10 '[[ $(field method) == default && $(field passes) == steady && $(fie
 latency_b=$(applied_after "$t")
 base=$(field frames_filtered)
 wait_for 30 "[[ \$(field frames_filtered) -ge $((base + 10)) ]]" || fail "filtering stopped after the method change"
+# The default's pipelines were never asked for in this process (A ran none): the first frames after the
+# switch wait for them, counted apart from the start's.
+late_b=$(field frames_warming_up_late)
+((${late_b:-0} >= 1)) || fail "frames_warming_up_late=${late_b:-none} after a switch to new pipelines, want >= 1"
 wait_dump dump-b
 check_dump dump-b differ
-echo "[$phase] applied $latency_b ms after the write; method=$(field method) passes=$(field passes) profile=$(field profile)"
+echo "[$phase] applied $latency_b ms after the write; method=$(field method) passes=$(field passes) profile=$(field profile); ${late_b:-?} frames waited for its pipelines"
 
 # --- C: an editor's save (write a new file, rename it over the config) disables filtering.
 phase=C
@@ -167,6 +171,8 @@ app_rc=$?
 ((app_rc == 0)) || { fail "hello_xr exited $app_rc"; tail -n 20 "$out/hello_xr.log"; }
 summary=$(grep -a "session summary:" "$out/hello_xr.log" | tail -n 1)
 echo "[$phase] $summary"
+late=$(sed -n 's/.*frames_warming_up_late=\([0-9]*\).*/\1/p' <<<"$summary")
+((${late:-0} >= ${late_b:-0})) || fail "summary frames_warming_up_late=${late:-none}, the status file said ${late_b:-none}"
 disabled=$(sed -n 's/.*frames_disabled=\([0-9]*\).*/\1/p' <<<"$summary")
 ((${disabled:-0} >= 10)) || fail "summary frames_disabled=${disabled:-none}"
 applied=$(grep -ac "config: applied" "$out/hello_xr.log")
