@@ -50,13 +50,17 @@ glm::mat4 ppdDepthStretch(const HeadPose& start, double tangentScale) {
   return glm::inverse(toView) * stretch * toView;
 }
 
-std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h, double pixelsPerDegree,
+std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h, const EyeRig& rig,
                                     glm::vec2 jitterPx) {
   std::array<EyeCamera, 2> cams;
-  const double tangentScale = ppdTangentScale(pixelsPerDegree, w);
+  const double tangentScale = ppdTangentScale(rig.pixelsPerDegree, w);
   for (int eye = 0; eye < 2; ++eye) {
     core::Pose p;
-    p.orientation = head.orientation;
+    // Outwards: the left eye turns left (a positive yaw about +Y turns -Z towards -X), the right eye right.
+    const float cantRad = float(rig.cantDeg * std::numbers::pi / 180.0) * (eye == 0 ? 1.0f : -1.0f);
+    p.orientation = rig.cantDeg == 0.0
+                        ? head.orientation
+                        : head.orientation * glm::angleAxis(cantRad, glm::vec3(0.0f, 1.0f, 0.0f));
     p.position = head.position + head.orientation * glm::vec3(eye == 0 ? -kIpdM / 2 : kIpdM / 2, 0.0f, 0.0f);
     // Off (scale 1): eyeFov untouched, so every result without --ppd stays bit-identical.
     const core::Fov eyeFovHere =

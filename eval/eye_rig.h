@@ -47,10 +47,17 @@ struct HeadPose {
 // angles, so the narrowed fov would show the scene 1/s times larger in pixels.
 glm::mat4 ppdDepthStretch(const HeadPose& start, double tangentScale);
 
-// pixelsPerDegree: --ppd (0: eyeFov as it is; else the fov's tangents and kNearZ times
-// ppdTangentScale). jitterPx: the layer's sub-pixel jitter
-// (core::jitterFov), zero for an unjittered render.
-std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h, double pixelsPerDegree,
+// The headset's optics as the eval models them: --ppd and --cant.
+struct EyeRig {
+  // > 0: the fov's tangents and kNearZ times ppdTangentScale (--ppd); 0: eyeFov as it is.
+  double pixelsPerDegree = 0.0;
+  // Each eye's view yawed outwards by this many degrees (--cant), as a headset with canted displays
+  // reports its views (the Pimax 5k+'s native mode: 10 degrees; parallel views: 0).
+  double cantDeg = 0.0;
+};
+
+// jitterPx: the layer's sub-pixel jitter (core::jitterFov), zero for an unjittered render.
+std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h, const EyeRig& rig,
                                     glm::vec2 jitterPx = glm::vec2(0.0f));
 
 }  // namespace steadyxr::eval

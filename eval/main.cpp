@@ -97,6 +97,10 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        image viewer's picture moves further away and the scenes in metres are
                        stretched in depth to keep their pixels; a scene that would pass the far
                        plane is refused (--corpus leaves it out)
+  --cant DEG           canted displays: each eye's view yawed outwards by DEG (0-20; the Pimax
+                       5k+'s native views: 10), rendered and submitted so, as such a headset's
+                       runtime reports its views; not with --ppd, whose crops at the eyes' centres
+                       would no longer overlap
   --locomotion KIND:N  the app's own rig motion, which it renders but does not submit (OpenXR
                        poses are the tracked head's): the layer sees the head, the picture moves
                        by both. turn:DEG_PER_S (a smooth turn, left for > 0), strafe:M_PER_S,
@@ -195,6 +199,9 @@ int main(int argc, char** argv) {
       } else if (a == "--ppd") {
         o.ppd = std::stod(next());
         if (!(o.ppd > 0.0)) throw std::invalid_argument("ppd");
+      } else if (a == "--cant") {
+        o.cantDeg = std::stod(next());
+        if (!(o.cantDeg > 0.0 && o.cantDeg <= 20.0)) throw std::invalid_argument("cant");
       } else if (a == "--locomotion") {
         std::string error;
         if (!steadyxr::eval::parseLocomotion(next(), &o.locomotion, &error)) {
@@ -257,9 +264,15 @@ int main(int argc, char** argv) {
               << " px puts the picture beyond the far plane (fewer ppd or more pixels)\n";
     return 2;
   }
+  // --ppd keeps a crop at the centre of each eye's view; canted views point those crops apart, so that the
+  // two eyes would no longer see the same picture.
+  if (o.ppd > 0.0 && o.cantDeg > 0.0) {
+    std::cerr << "steadyxr-eval: --cant needs the eye's whole fov: leave out --ppd\n";
+    return 2;
+  }
   if (!o.renderSizes.empty()) {
-    if (o.ppd > 0.0) {
-      std::cerr << "steadyxr-eval: --render-sizes keeps the eye's fov as it is: leave out --ppd\n";
+    if (o.ppd > 0.0 || o.cantDeg > 0.0) {
+      std::cerr << "steadyxr-eval: --render-sizes keeps the eye's fov as it is: leave out --ppd and --cant\n";
       return 2;
     }
     return steadyxr::eval::runRenderSizeStudy(o);

@@ -183,7 +183,7 @@ int runRenderSizeStudy(const Options& o) {
       std::vector<std::array<Image, 2>> truth(sizes.size());
       for (int s : {0, changing}) {
         if (!truth[size_t(s)][0].empty()) continue;
-        const auto cams = eyeCameras(head, sizes[size_t(s)].first, sizes[size_t(s)].second, 0.0);
+        const auto cams = eyeCameras(head, sizes[size_t(s)].first, sizes[size_t(s)].second, EyeRig{});
         for (int eye = 0; eye < 2; ++eye) {
           DrawList draws = scene.drawsAt(t, head);
           draws.noiseSeed = uint32_t(f * 2 + eye + 1);
@@ -201,8 +201,8 @@ int runRenderSizeStudy(const Options& o) {
         const int s = r.mode == Mode::Fixed ? 0 : changing;
         SceneRenderer& renderer = *renderers[size_t(s)];
         const auto [w, h] = sizes[size_t(s)];
-        const auto cams = eyeCameras(head, w, h, 0.0);
-        const auto trackedCams = eyeCameras(tracked, w, h, 0.0);
+        const auto cams = eyeCameras(head, w, h, EyeRig{});
+        const auto trackedCams = eyeCameras(tracked, w, h, EyeRig{});
         core::StereoFrame frame;
         frame.viewCount = 2;
         for (int eye = 0; eye < 2; ++eye) {

@@ -78,8 +78,8 @@ void writeResultsJson(const std::string& path, const Options& o, const std::vect
     << ", \"display_hz\": " << o.displayHz << ", \"gt_samples_per_pixel\": " << o.gtGrid * o.gtGrid
     << ", \"error_threshold\": " << o.errorThreshold << ", \"srgb\": " << boolStr(!o.unorm)
     << ", \"mipmaps\": " << boolStr(o.mipmaps) << ", \"corpus\": " << boolStr(o.corpus)
-    << ", \"ppd\": " << o.ppd << ", \"locomotion\": " << jsonStr(toString(o.locomotion))
-    << ", \"drop_frames\": " << o.dropFrames
+    << ", \"ppd\": " << o.ppd << ", \"cant_deg\": " << o.cantDeg
+    << ", \"locomotion\": " << jsonStr(toString(o.locomotion)) << ", \"drop_frames\": " << o.dropFrames
     << ", \"missed_periods\": " << missedPeriods(o.frames, o.dropFrames, o.seed)
     << ", \"device\": " << jsonStr(device)
     << ", \"color_space\": \"display-encoded (sRGB) 8-bit values scaled to [0,1]; MTCD, temporal and stereo "

@@ -66,6 +66,10 @@ FORWARD_MAX_M = 1.0
 # stutters now and then (5 %) to one that misses nearly a third of its frames; beyond that a runtime locks
 # the app to half rate (a steady 2-period step, which the eval's --app-hz already covers).
 DROP_RANGE = (0.05, 0.3)
+# --cant-fraction: a headset with canted displays, each eye's view yawed outwards (the eval's --cant; the
+# Pimax 5k+'s native views 10 degrees each), drawn from its own generator (the other draws stay a seed's);
+# only in cases at the eval's own fov (--ppd 0), since --ppd's crops would no longer overlap.
+CANT_CHOICES_DEG = [5.0, 10.0, 15.0]
 # The eval's clock for --drop-frames (eval/frame_clock.cpp): at most this many periods missed in a row.
 MOST_MISSED_IN_A_ROW = 3
 
@@ -97,6 +101,11 @@ def parse_args(argv):
     p.add_argument("--drop-fraction", type=float, default=0.0,
                    help="share of cases whose app misses frames (--drop-frames %g-%g; default 0: the draws of "
                         "earlier rounds)" % DROP_RANGE)
+    p.add_argument("--cant-fraction", type=float, default=0.0,
+                   help="share of the cases at --ppd 0 whose headset has canted displays (--cant, drawn from "
+                        "--cant; default 0: the draws of earlier rounds)")
+    p.add_argument("--cant", default=",".join(f"{x:g}" for x in CANT_CHOICES_DEG),
+                   help="cant angles to draw from, degrees outwards per eye")
     p.add_argument("--motions", default=",".join(stress_motion.KINDS),
                    help="motion kinds to draw from, in turn (" + ",".join(stress_motion.KINDS) + "; opt-in: " +
                    ",".join(stress_motion.OPT_IN_KINDS) + ")")
@@ -139,6 +148,9 @@ def draw_case(seed, index, args):
     locomotion = draw_locomotion(np.random.default_rng([seed, index, 7]), args.locomotion_fraction,
                                  frames / app_hz)
     drop = draw_drops(np.random.default_rng([seed, index, 11]), args.drop_fraction)
+    cant_rng = np.random.default_rng([seed, index, 13])
+    cant = float(cant_rng.choice([float(x) for x in args.cant.split(",")])) \
+        if cant_rng.uniform() < args.cant_fraction and ppd == 0.0 else 0.0
     return {
         "index": index,
         "name": f"s{seed}c{index:03d}",
@@ -154,6 +166,7 @@ def draw_case(seed, index, args):
         "noise": round(noise, 4),
         "locomotion": locomotion,
         "drop": drop,
+        "cant": cant,
         "rng": rng,
     }
 
@@ -257,6 +270,8 @@ def eval_command(case, args, out_dir):
         cmd += ["--locomotion", case["locomotion"]]
     if case.get("drop", 0.0) > 0:
         cmd += ["--drop-frames", f"{case['drop']:g}"]
+    if case.get("cant", 0.0) > 0:
+        cmd += ["--cant", f"{case['cant']:g}"]
     return cmd
 
 
@@ -337,7 +352,8 @@ def describe_motion(case):
              "dodge_cm": "do", "dodge_peak_m_s": "v"}
     text = case["motion_kind"] + "(" + ",".join(f"{s}={p[k]}" for k, s in short.items() if k in p) + ")"
     return text + ("+" + case["locomotion"] if case.get("locomotion") else "") + \
-        (f"+drop{case['drop']:g}" if case.get("drop", 0.0) > 0 else "")
+        (f"+drop{case['drop']:g}" if case.get("drop", 0.0) > 0 else "") + \
+        (f"+cant{case['cant']:g}" if case.get("cant", 0.0) > 0 else "")
 
 
 def print_table(cases):
@@ -397,7 +413,8 @@ def breakdown(cases):
             else None, "motion": lambda c: c["motion_kind"], "ppd": lambda c: f"{c['ppd']:g}",
             "app Hz": lambda c: f"{c['app_hz']:g}", "mipmaps": lambda c: "y" if c["mipmaps"] else "n",
             "locomotion": lambda c: c["locomotion"].split(":")[0] if c.get("locomotion") else "none",
-            "dropped frames": lambda c: "yes" if c.get("drop", 0.0) > 0 else "no"}
+            "dropped frames": lambda c: "yes" if c.get("drop", 0.0) > 0 else "no",
+            "cant": lambda c: f"{c.get('cant', 0.0):g}"}
     lines = []
     for axis, key in axes.items():
         groups = {}

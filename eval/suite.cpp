@@ -272,8 +272,8 @@ int runSuite(const Options& o) {
       // the IMU path's gyro), not a difference of two frames' poses.
       const float headSpeed = float(stream->headSpeedDegPerSec(std::max(0.0, t)));
       headSpeeds.push_back(headSpeed);
-      const auto cams = eyeCameras(head, o.width, o.height, o.ppd);
-      const auto trackedCams = eyeCameras(trackedAt(t), o.width, o.height, o.ppd);
+      const auto cams = eyeCameras(head, o.width, o.height, o.eyeRig());
+      const auto trackedCams = eyeCameras(trackedAt(t), o.width, o.height, o.eyeRig());
       // The layer's jitter of this frame (xrLocateViews call f), as `jitter = 1` injects it.
       const glm::vec2 jitter = core::haltonJitterPx(uint32_t(f));
       const float objSpeed = scene.objectSpeed(t);
@@ -340,7 +340,7 @@ int runSuite(const Options& o) {
       ft.dispGt.assign(ratio, ft.gt);
       for (int k = 1; k < ratio; ++k) {
         const double td = t + k / o.displayHz;
-        ft.dispCams[k] = eyeCameras(headAt(td), o.width, o.height, o.ppd);
+        ft.dispCams[k] = eyeCameras(headAt(td), o.width, o.height, o.eyeRig());
         for (int eye = 0; eye < 2; ++eye) {
           if (!renderer->renderGroundTruth(ft.dispCams[k][eye], scene.drawsAt(td, headAt(td)), o.gtGrid,
                                            &ft.dispGt[k][eye], &error)) {
@@ -361,7 +361,7 @@ int runSuite(const Options& o) {
       }
       std::array<RenderedView, 2> jittered;
       bool jitterRendered = false;
-      std::array<EyeCamera, 2> jitterCams = eyeCameras(head, o.width, o.height, o.ppd, jitter);
+      std::array<EyeCamera, 2> jitterCams = eyeCameras(head, o.width, o.height, o.eyeRig(), jitter);
       std::vector<std::array<Image, 2>> frameOut(variants.size());
       for (size_t vi = 0; vi < variants.size(); ++vi) {
         Variant& v = variants[vi];

@@ -44,6 +44,9 @@ struct Options {
   bool quick = false;
   // > 0: a headset's pixels per degree at the view's centre (eye_rig.h, ppdTangentScale); 0: eyeFov.
   double ppd = 0.0;
+  // > 0: canted displays, each eye's view yawed outwards by this many degrees (eye_rig.h, EyeRig).
+  double cantDeg = 0.0;
+  EyeRig eyeRig() const { return {ppd, cantDeg}; }
   // The app's own rig motion on top of the head's, which the layer is not told (locomotion.h).
   Locomotion locomotion;
   // > 0: the share of app periods the app misses (frame_clock.h): a missed frame's pose step is two periods.

@@ -16,7 +16,7 @@ bool writeWarpStudy(SceneRenderer& renderer, const Scene& scene, const Options& 
   // warping with per-pixel motion, and count pixels that differ from the frame rendered at that time.
   for (int k = 1; k <= o.warpSteps; ++k) {
     const double td = t + k / o.displayHz;
-    const auto dc = eyeCameras(headAt(td), o.width, o.height, o.ppd);
+    const auto dc = eyeCameras(headAt(td), o.width, o.height, o.eyeRig());
     DrawList draws = scene.drawsAt(td);
     draws.noiseSeed = uint32_t(frame.index * 2 + 1);
     if (o.noise > 0.0f) draws.noiseAmplitude = o.noise;

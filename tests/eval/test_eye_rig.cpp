@@ -19,7 +19,7 @@ glm::vec2 pixelOfDirection(glm::vec3 dir, double yawDeg, double ppd, int w = 96,
   HeadPose head;
   head.orientation = glm::angleAxis(float(yawDeg * kDegToRad), glm::vec3(0.0f, 1.0f, 0.0f));
   glm::vec2 px(0.0f);
-  EXPECT_TRUE(projectDirection(eyeCameras(head, w, h, ppd)[0], dir, &px));
+  EXPECT_TRUE(projectDirection(eyeCameras(head, w, h, EyeRig{ppd})[0], dir, &px));
   return px;
 }
 
@@ -30,7 +30,7 @@ TEST(EvalEyeRig, DefaultFovIsUnderOnePixelPerDegreeAt96) {
 }
 
 TEST(EvalEyeRig, PpdOffKeepsTheFovExactly) {
-  const auto a = eyeCameras(HeadPose{}, 96, 96, 0.0);
+  const auto a = eyeCameras(HeadPose{}, 96, 96, EyeRig{0.0});
   for (int eye = 0; eye < 2; ++eye) {
     EXPECT_EQ(a[eye].fov.angleLeft, eyeFov(eye).angleLeft);
     EXPECT_EQ(a[eye].fov.angleRight, eyeFov(eye).angleRight);
@@ -59,7 +59,7 @@ TEST(EvalEyeRig, ShapeKeptCentreOnTheSamePixel) {
   const glm::vec2 wide = pixelOfDirection(ahead, 0.0, 0.0), narrow = pixelOfDirection(ahead, 0.0, 20.0);
   EXPECT_NEAR(narrow.x, wide.x, 1e-3);
   EXPECT_NEAR(narrow.y, wide.y, 1e-3);
-  const auto cams = eyeCameras(HeadPose{}, 96, 96, 20.0);
+  const auto cams = eyeCameras(HeadPose{}, 96, 96, EyeRig{20.0});
   const core::Fov f = cams[0].fov, d = eyeFov(0);
   auto span = [](float a, float b) { return std::tan(double(a)) - std::tan(double(b)); };
   EXPECT_NEAR(span(f.angleUp, f.angleDown) / span(f.angleRight, f.angleLeft),
@@ -72,7 +72,8 @@ TEST(EvalEyeRig, PictureMovedByTheInverseScaleKeepsItsPixels) {
   // The image viewer's rule (scene.cpp, picturePlane): at distance 1.5 m / tangent scale the
   // picture's corner lands on the pixel it has without --ppd, in both eyes (disparity kept).
   const double scale = ppdTangentScale(20.0, 96);
-  const auto wide = eyeCameras(HeadPose{}, 96, 96, 0.0), narrow = eyeCameras(HeadPose{}, 96, 96, 20.0);
+  const auto wide = eyeCameras(HeadPose{}, 96, 96, EyeRig{0.0}),
+             narrow = eyeCameras(HeadPose{}, 96, 96, EyeRig{20.0});
   for (int eye = 0; eye < 2; ++eye) {
     glm::vec2 a, b;
     float wideDepth = 0, narrowDepth = 0;
@@ -84,6 +85,34 @@ TEST(EvalEyeRig, PictureMovedByTheInverseScaleKeepsItsPixels) {
     // without --ppd: the near plane moved out with the picture.
     EXPECT_LT(wideDepth, 0.999f);
     EXPECT_LT(narrowDepth, 0.999f);
+  }
+}
+
+// --cant: a headset with canted displays turns each eye's view outwards about the vertical. So the direction
+// that is straight ahead of the head lands in the left eye where, without the cant, a direction that far to
+// the right lands (and mirrored in the right eye), and a direction turned outwards by the cant lands where
+// straight ahead did; the eyes stay where they were, and nothing moves vertically.
+TEST(EvalEyeRig, CantTurnsEachEyeOutwards) {
+  const double cantDeg = 10.0;
+  const auto yawed = [](double deg) {  // a positive yaw turns -Z towards -X: to the left
+    return glm::vec3(float(-std::sin(deg * kDegToRad)), 0.0f, float(-std::cos(deg * kDegToRad)));
+  };
+  const auto parallel = eyeCameras(HeadPose{}, 96, 96, EyeRig{}),
+             canted = eyeCameras(HeadPose{}, 96, 96, EyeRig{0.0, cantDeg});
+  for (int eye = 0; eye < 2; ++eye) {
+    const double outwards = eye == 0 ? cantDeg : -cantDeg;
+    glm::vec2 aheadCanted, inwardsParallel, outwardsCanted, aheadParallel;
+    ASSERT_TRUE(projectDirection(canted[eye], yawed(0.0), &aheadCanted));
+    ASSERT_TRUE(projectDirection(parallel[eye], yawed(-outwards), &inwardsParallel));
+    ASSERT_TRUE(projectDirection(canted[eye], yawed(outwards), &outwardsCanted));
+    ASSERT_TRUE(projectDirection(parallel[eye], yawed(0.0), &aheadParallel));
+    EXPECT_NEAR(aheadCanted.x, inwardsParallel.x, 1e-3) << "eye " << eye;
+    EXPECT_NEAR(aheadCanted.y, inwardsParallel.y, 1e-3) << "eye " << eye;
+    EXPECT_NEAR(outwardsCanted.x, aheadParallel.x, 1e-3) << "eye " << eye;
+    EXPECT_NEAR(outwardsCanted.y, aheadParallel.y, 1e-3) << "eye " << eye;
+    // Straight ahead moves towards the nose: right in the left eye's image, left in the right eye's.
+    EXPECT_GT((aheadCanted.x - aheadParallel.x) * (eye == 0 ? 1.0f : -1.0f), 5.0f) << "eye " << eye;
+    EXPECT_EQ(canted[eye].pose.position, parallel[eye].pose.position);
   }
 }
 

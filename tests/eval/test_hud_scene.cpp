@@ -53,7 +53,7 @@ glm::vec2 cornerPixel(const Scene& scene, const HeadPose& head, double ppd, size
                       int eye) {
   const DrawList d = scene.drawsAt(0.0, head);
   EXPECT_LT(q, d.quads.size());
-  const auto cams = eyeCameras(head, kWidth, kWidth, ppd);
+  const auto cams = eyeCameras(head, kWidth, kWidth, EyeRig{ppd});
   glm::vec2 px(0.0f);
   float depth = 0;
   EXPECT_TRUE(project(cams[eye], glm::vec3(d.quads[q].model * glm::vec4(corner, 0.0f, 1.0f)), &px, &depth));
@@ -96,7 +96,7 @@ TEST(EvalHudScene, EyesSeeTheHudAtItsHeadSpaceDistance) {
   const glm::vec2 left = cornerPixel(scene, head, 0.0, 1, glm::vec2(0.0f), 0);
   const glm::vec2 right = cornerPixel(scene, head, 0.0, 1, glm::vec2(0.0f), 1);
   // The eyes' fovs are asymmetric (eyeFov): the same direction at infinity lands apart already.
-  const auto cams = eyeCameras(head, kWidth, kWidth, 0.0);
+  const auto cams = eyeCameras(head, kWidth, kWidth, EyeRig{0.0});
   glm::vec2 leftFar, rightFar;
   ASSERT_TRUE(projectDirection(cams[0], head.orientation * glm::vec3(0, 0, -1), &leftFar));
   ASSERT_TRUE(projectDirection(cams[1], head.orientation * glm::vec3(0, 0, -1), &rightFar));
@@ -106,7 +106,7 @@ TEST(EvalHudScene, EyesSeeTheHudAtItsHeadSpaceDistance) {
 }
 
 TEST(EvalHudScene, OverlayMaskIsTheNearPixelsDilatedByOne) {
-  const auto cams = eyeCameras(HeadPose{}, 16, 16, 0.0);
+  const auto cams = eyeCameras(HeadPose{}, 16, 16, EyeRig{0.0});
   DepthMap depth;
   depth.width = depth.height = 16;
   depth.depth.assign(16 * 16, 1.0f);

@@ -43,7 +43,8 @@ void expectSamePixels(const std::string& name, double ppd, int w, const HeadPose
   const auto wideQuads = wide.drawsAt(tSec).quads, narrowQuads = narrow.drawsAt(tSec).quads;
   ASSERT_EQ(wideQuads.size(), narrowQuads.size());
   ASSERT_FALSE(wideQuads.empty());
-  const auto wideCams = eyeCameras(viewer, w, w, 0.0), narrowCams = eyeCameras(viewer, w, w, ppd);
+  const auto wideCams = eyeCameras(viewer, w, w, EyeRig{0.0}),
+             narrowCams = eyeCameras(viewer, w, w, EyeRig{ppd});
   int seen = 0;
   for (size_t q = 0; q < wideQuads.size(); ++q) {
     for (const glm::vec2 corner : {glm::vec2(-0.5f), glm::vec2(0.5f), glm::vec2(-0.5f, 0.5f)}) {
