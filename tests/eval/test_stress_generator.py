@@ -156,6 +156,15 @@ assert {k: v for k, v in named[4].items() if k not in ("picture_kind", "rng")} =
     {k: v for k, v in plain.items() if k not in ("picture_kind", "rng")}
 expect_refused(["--pictures", "lines,photos"], "unknown kind(s) photos")
 expect_refused(["--scenes", "imageviewer,depth"], "unknown scene(s) depth")  # round 44: each case's eval failed
+def with_and_without(seed, index, flags, key, off):
+    """Case `index` drawn with `flags` and without: the same case but for `key` (`off` without the flags)."""
+    with_it, without = stress.draw_case(seed, index, flags), stress.draw_case(seed, index, every)
+    assert without[key] == off, without
+    assert {k: v for k, v in with_it.items() if k not in (key, "rng")} == \
+        {k: v for k, v in without.items() if k not in (key, "rng")}, index
+    return with_it
+
+
 # --locomotion-fraction: every drawn rig motion is one the eval reads, within a game's settings, and
 # it changes nothing else of a case (earlier seeds draw what they drew); a walk ahead stops 0.5 m short
 # of the picture at 1.5 m over the half of the run the stick is held (eval/locomotion.h).
@@ -163,10 +172,7 @@ moving = stress.parse_args(["--eval", "x", "--out", "y", "--locomotion-fraction"
 limits = {"turn": (20.0, 120.0), "snap": (20.0, 45.0), "strafe": (0.5, 3.0), "forward": (0.0, 3.0)}
 kinds = set()
 for i in range(40):
-    with_rig, without = stress.draw_case(61, i, moving), stress.draw_case(61, i, every)
-    assert without["locomotion"] == "", without
-    assert {k: v for k, v in with_rig.items() if k not in ("locomotion", "rng")} == \
-        {k: v for k, v in without.items() if k not in ("locomotion", "rng")}, i
+    with_rig = with_and_without(61, i, moving, "locomotion", "")
     kind, amount = with_rig["locomotion"].split(":")
     kinds.add(kind)
     low, high = limits[kind]
@@ -180,10 +186,7 @@ assert kinds == set(limits), kinds
 dropping = stress.parse_args(["--eval", "x", "--out", "y", "--drop-fraction", "0.5"])
 drops = []
 for i in range(40):
-    with_drops, without = stress.draw_case(62, i, dropping), stress.draw_case(62, i, every)
-    assert without["drop"] == 0.0, without
-    assert {k: v for k, v in with_drops.items() if k not in ("drop", "rng")} == \
-        {k: v for k, v in without.items() if k not in ("drop", "rng")}, i
+    with_drops = with_and_without(62, i, dropping, "drop", 0.0)
     command = stress.eval_command(dict(with_drops, trace="t.csv", picture="p.png"), dropping, Path("out"))
     if with_drops["drop"] > 0:
         assert stress.DROP_RANGE[0] <= with_drops["drop"] <= stress.DROP_RANGE[1], with_drops["drop"]
@@ -197,10 +200,7 @@ assert 10 <= len(drops) <= 30, len(drops)  # 20 expected; about 3 standard devia
 canting = stress.parse_args(["--eval", "x", "--out", "y", "--cant-fraction", "1", "--cant", "5,10"])
 canted = 0
 for i in range(40):
-    with_cant, without = stress.draw_case(63, i, canting), stress.draw_case(63, i, every)
-    assert without["cant"] == 0.0, without
-    assert {k: v for k, v in with_cant.items() if k not in ("cant", "rng")} == \
-        {k: v for k, v in without.items() if k not in ("cant", "rng")}, i
+    with_cant = with_and_without(63, i, canting, "cant", 0.0)
     command = stress.eval_command(dict(with_cant, trace="t.csv", picture="p.png"), canting, Path("out"))
     if with_cant["ppd"] == 0.0:
         assert with_cant["cant"] in (5.0, 10.0), with_cant["cant"]
