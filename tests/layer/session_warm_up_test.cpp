@@ -34,9 +34,11 @@ struct Holds {
   std::atomic<bool> stereoPass{false};
   std::atomic<bool> switchProbeMade{false};
   std::atomic<bool> temporalPassMade{false};
+  std::atomic<bool> depthVariantMade{false};  // a pipeline that reads depth (passSpecKey's depth bits)
   bool holdBack(const core::PipelineDescription& d) {
     if (isProbe(d, true)) switchProbeMade = true;
     if (d.pass == "temporal" && !isProbe(d, false) && !isProbe(d, true)) temporalPassMade = true;
+    if (d.specialisation.size() == 15 && d.specialisation[6] != 0) depthVariantMade = true;
     if (isProbe(d, false)) return plainProbe;
     if (d.pass == "stereo") return stereoPass;
     return false;
@@ -131,6 +133,50 @@ TEST_F(SessionTest, AMethodSwitchedLiveWaitsAndIsCountedLate) {
   EXPECT_NE(stats.summary().find(" frames_warming_up_late=" + std::to_string(stats.warmingUpLate) + " "),
             std::string::npos)
       << stats.summary();
+}
+
+// Round 45: an app with a depth swapchain may start giving depth half-way; the session tells the filter
+// (core::Filter::setDepthMayChange), which then makes the depth variants of the frames' pipelines beforehand
+// (tests/core/filter_test_pipelines.cpp, DepthThatStartsOrStopsHalfWayFindsItsPipelinesMade). An app without
+// one never gets them: no compile for an input that cannot come. Neither app here gives depth.
+TEST_F(SessionTest, ADepthSwapchainMakesTheDepthPipelinesBeforehand) {
+  std::chrono::steady_clock::duration tookWithDepthSwapchain{};
+  for (const bool depthSwapchain : {true, false}) {
+    FakeRuntime fake(*gVk);
+    Holds holds;
+    Config cfg;
+    cfg.method = "steady";
+    App app = appWith(fake, cfg, holds);
+    XrSwapchain depth = XR_NULL_HANDLE;
+    if (depthSwapchain) {
+      auto ci = makeXr<XrSwapchainCreateInfo>(XR_TYPE_SWAPCHAIN_CREATE_INFO);
+      ci.usageFlags = XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+      ci.format = VK_FORMAT_D32_SFLOAT;
+      ci.sampleCount = 1;
+      ci.width = 64;
+      ci.height = 32;
+      ci.faceCount = 1;
+      ci.arraySize = 1;
+      ci.mipCount = 1;
+      ASSERT_EQ(app.session_->createSwapchain(&ci, &depth), XR_SUCCESS);
+    }
+    ASSERT_TRUE(app.warmUp());
+    const auto start = std::chrono::steady_clock::now();
+    // Without the depth swapchain, twice as long as it took with one (and a second at least).
+    const auto until = depthSwapchain ? start + std::chrono::seconds(60)
+                                      : start + std::max<std::chrono::steady_clock::duration>(
+                                                    2 * tookWithDepthSwapchain, std::chrono::seconds(1));
+    while (!holds.depthVariantMade && std::chrono::steady_clock::now() < until) {
+      EXPECT_EQ(app.frame(), XR_SUCCESS);
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (depthSwapchain) tookWithDepthSwapchain = std::chrono::steady_clock::now() - start;
+    EXPECT_EQ(holds.depthVariantMade, depthSwapchain) << "depth swapchain " << depthSwapchain;
+    EXPECT_EQ(app.session_->stats().warmingUpLate, 0u);
+    if (depth != XR_NULL_HANDLE) {
+      EXPECT_EQ(app.session_->destroySwapchain(depth), XR_SUCCESS);
+    }
+  }
 }
 
 }  // namespace

@@ -49,6 +49,9 @@ const Params& Filter::params() const {
 void Filter::reset() {
   impl_->resetRequested = true;
 }
+void Filter::setDepthMayChange(bool mayChange) {
+  impl_->depthMayChange = mayChange;
+}
 void Filter::waitIdle() {
   impl_->waitAll();
 }

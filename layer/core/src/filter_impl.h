@@ -25,6 +25,7 @@ struct Filter::Impl {
   Params pendingParams;
   bool paramsChanged = false;
   bool resetRequested = true;
+  bool depthMayChange = false;  // Filter::setDepthMayChange
   bool timestamps = false;
   float timestampPeriodNs = 1.0f;
   VkDeviceSize uboStride = 512;

@@ -202,6 +202,10 @@ VkPipeline PipelineCache::ready(Pass pass, OutFmt fmt, const SpecKey& spec) {
   return getOrHoldBack({pass, fmt, spec}, &stillCompiling, &error);
 }
 
+void PipelineCache::prepare(Pass pass, OutFmt fmt, const SpecKey& spec) {
+  if (background_) ready(pass, fmt, spec);
+}
+
 std::vector<PipelineDescription> PipelineCache::made() const {
   std::vector<PipelineDescription> out;
   for (const auto& [key, pipeline] : used_) out.push_back(describe(key));

@@ -101,6 +101,9 @@ class PipelineCache {
   // The same, for a pipeline a later frame may need (round 42: the head-locked switch's probe): null while it
   // compiles, without marking this frame's passes as compiling; a failed compile stays null.
   VkPipeline ready(Pass pass, OutFmt fmt, const SpecKey& spec);
+  // Starts a pipeline's compile on a worker thread where this filter compiles in the background (and does
+  // nothing where it compiles in line): for one that no frame needs yet (Filter::setDepthMayChange).
+  void prepare(Pass pass, OutFmt fmt, const SpecKey& spec);
   std::vector<PipelineDescription> made() const;  // the pipelines this filter used so far
   bool compiling = false;                         // a get() of this frame found its pipeline still compiling
 

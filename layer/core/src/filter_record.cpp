@@ -170,6 +170,12 @@ bool Filter::Impl::record(Recording& rec, const PassDispatch& d, std::string* er
   if (!p && pipelines.compiling)
     return true;  // record nothing, but go on: every pipeline of the frame starts
   if (!p || rec.dispatchIndex >= kMaxDispatches) return false;
+  if (depthMayChange && !pipelines.compiling) {
+    // Its twin with depth the other way (both eyes', in the stereo pass), made before a frame needs it.
+    PassDispatch twin = d;
+    twin.switches.depthBits = d.switches.depthBits != 0 ? 0 : d.pass == Pass::Stereo ? 3 : 1;
+    pipelines.prepare(twin.pass, twin.fmt, specKeyOf(twin));
+  }
   const VkDeviceSize offset = uboStride * rec.dispatchIndex++;
   std::memcpy(static_cast<char*>(s.mapped) + offset, &d.uniforms, sizeof(d.uniforms));
   VkDescriptorSetAllocateInfo dsai{};

@@ -326,6 +326,8 @@ XrResult Session::createSwapchain(const XrSwapchainCreateInfo* info, XrSwapchain
     s.info.next = nullptr;
     if (!isReadableSwapchain(*info) || !(ours.usageFlags & XR_SWAPCHAIN_USAGE_SAMPLED_BIT)) {
       s.info.format = 0;  // not readable by the filter: makes checkProjection pass it through
+    } else if (ours.usageFlags & XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT) {
+      appHasDepthSwapchain_ = true;
     }
   }
   return r;

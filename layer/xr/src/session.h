@@ -201,6 +201,9 @@ class Session {
   std::shared_ptr<InstanceState> instance_;
   XrSession handle_;
   std::atomic<bool> filtering_ = false;  // read unlocked on the fast pass-through path
+  // The app made a depth swapchain the filter can read: its frames may start or stop giving depth
+  // (core::Filter::setDepthMayChange).
+  std::atomic<bool> appHasDepthSwapchain_ = false;
   bool vulkanSession_ = false;
   PassReason failedReason_ = PassReason::FilterError;  // why filtering_ is off in a Vulkan session
   bool shutDown_ = false;

@@ -311,6 +311,7 @@ std::optional<PassReason> Session::runFilter(FrameWork& work) {
     log.log(LogLevel::Debug, buf);
   }
   std::string error;
+  filter_->setDepthMayChange(appHasDepthSwapchain_);
   if (!filter_->submit(work.input, work.output, &error)) {
     if (filter_->compiling()) {
       log.once(LogLevel::Info, "filter-compiling",

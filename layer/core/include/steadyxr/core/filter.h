@@ -81,6 +81,11 @@ class Filter {
   void setParams(const Params& params);  // takes effect on the next submit; method change resets history
   const Params& params() const;          // in force (round 42: with the profile hud's settings once switched)
   void reset();                          // history is reinitialised on the next submit
+  // The app may start or stop giving depth half-way (it has depth images). With compileInBackground,
+  // every filtered frame then also asks for its pipelines' twins with depth the other way, so that a
+  // frame that gives depth where the last did not (or the reverse) finds them made and is not passed
+  // through while they compile (round 45). Off by default: no compile for an input that cannot come.
+  void setDepthMayChange(bool mayChange);
 
   // Blocks until all submitted work is done (tests, shutdown).
   void waitIdle();
