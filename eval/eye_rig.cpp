@@ -31,13 +31,13 @@ double ppdTangentScale(double pixelsPerDegree, int width) {
   return centrePixelsPerDegree(eyeFov(0), width) / pixelsPerDegree;
 }
 
-core::Fov scaleFovTangents(const core::Fov& fov, double tangentScale) {
-  auto scaled = [tangentScale](float angle) {
-    return float(std::atan(tangentScale * std::tan(double(angle))));
+core::Fov scaleFovTangents(const core::Fov& fov, double tangentScale, double centreTangentX) {
+  auto scaled = [tangentScale](float angle, double centre = 0.0) {
+    return float(std::atan(centre + tangentScale * std::tan(double(angle))));
   };
   core::Fov out;
-  out.angleLeft = scaled(fov.angleLeft);
-  out.angleRight = scaled(fov.angleRight);
+  out.angleLeft = scaled(fov.angleLeft, centreTangentX);
+  out.angleRight = scaled(fov.angleRight, centreTangentX);
   out.angleUp = scaled(fov.angleUp);
   out.angleDown = scaled(fov.angleDown);
   return out;
@@ -62,9 +62,11 @@ std::array<EyeCamera, 2> eyeCameras(const HeadPose& head, int w, int h, const Ey
                         ? head.orientation
                         : head.orientation * glm::angleAxis(cantRad, glm::vec3(0.0f, 1.0f, 0.0f));
     p.position = head.position + head.orientation * glm::vec3(eye == 0 ? -kIpdM / 2 : kIpdM / 2, 0.0f, 0.0f);
-    // Off (scale 1): eyeFov untouched, so every result without --ppd stays bit-identical.
-    const core::Fov eyeFovHere =
-        tangentScale == 1.0 ? eyeFov(eye) : scaleFovTangents(eyeFov(eye), tangentScale);
+    // Off (scale 1): eyeFov untouched, so every result without --ppd stays bit-identical. A canted eye's crop
+    // is centred on the head's straight ahead, which lies at tan(cant) towards the nose in the eye's view.
+    const core::Fov eyeFovHere = tangentScale == 1.0
+                                     ? eyeFov(eye)
+                                     : scaleFovTangents(eyeFov(eye), tangentScale, std::tan(double(cantRad)));
     const core::Fov fov = core::jitterFov(eyeFovHere, jitterPx.x, jitterPx.y, uint32_t(w), uint32_t(h));
     // The near plane moves out with the picture (scene.cpp, picturePlane): the depth buffer holds
     // the values it holds without --ppd, and the ground truth's background quad at raster depth

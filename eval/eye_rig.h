@@ -30,8 +30,9 @@ double centrePixelsPerDegree(const core::Fov& fov, int width);
 // this width: the factor on every tangent of the fov. 1 when pixelsPerDegree <= 0 (off).
 double ppdTangentScale(double pixelsPerDegree, int width);
 
-// The fov with every tangent times `tangentScale` (the asymmetric shape and the pixel aspect kept).
-core::Fov scaleFovTangents(const core::Fov& fov, double tangentScale);
+// The fov with every tangent times `tangentScale` (the asymmetric shape and the pixel aspect kept), its
+// horizontal tangents then moved by `centreTangentX` (a crop of the view around that direction; --cant).
+core::Fov scaleFovTangents(const core::Fov& fov, double tangentScale, double centreTangentX = 0.0);
 
 struct HeadPose {
   glm::quat orientation{1, 0, 0, 0};
@@ -52,7 +53,9 @@ struct EyeRig {
   // > 0: the fov's tangents and kNearZ times ppdTangentScale (--ppd); 0: eyeFov as it is.
   double pixelsPerDegree = 0.0;
   // Each eye's view yawed outwards by this many degrees (--cant), as a headset with canted displays
-  // reports its views (the Pimax 5k+'s native mode: 10 degrees; parallel views: 0).
+  // reports its views (the Pimax 5k+'s native mode: 10 degrees; parallel views: 0). With --ppd each eye's
+  // crop is the part of its canted view around the head's straight-ahead direction, which both eyes see,
+  // where parallel eyes' crops are at their centres: an off-axis frustum, as a region of the headset's view.
   double cantDeg = 0.0;
 };
 

@@ -99,8 +99,9 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        plane is refused (--corpus leaves it out)
   --cant DEG           canted displays: each eye's view yawed outwards by DEG (0-20; the Pimax
                        5k+'s native views: 10), rendered and submitted so, as such a headset's
-                       runtime reports its views; not with --ppd, whose crops at the eyes' centres
-                       would no longer overlap
+                       runtime reports its views; with --ppd each eye's crop is the part of its
+                       view around the head's straight ahead (an off-axis frustum), which both
+                       eyes see
   --locomotion KIND:N  the app's own rig motion, which it renders but does not submit (OpenXR
                        poses are the tracked head's): the layer sees the head, the picture moves
                        by both. turn:DEG_PER_S (a smooth turn, left for > 0), strafe:M_PER_S,
@@ -262,12 +263,6 @@ int main(int argc, char** argv) {
   if (o.ppd > 0.0 && 1.5 / steadyxr::eval::ppdTangentScale(o.ppd, o.width) > 0.9 * steadyxr::eval::kFarZ) {
     std::cerr << "steadyxr-eval: --ppd " << o.ppd << " at " << o.width
               << " px puts the picture beyond the far plane (fewer ppd or more pixels)\n";
-    return 2;
-  }
-  // --ppd keeps a crop at the centre of each eye's view; canted views point those crops apart, so that the
-  // two eyes would no longer see the same picture.
-  if (o.ppd > 0.0 && o.cantDeg > 0.0) {
-    std::cerr << "steadyxr-eval: --cant needs the eye's whole fov: leave out --ppd\n";
     return 2;
   }
   if (!o.renderSizes.empty()) {

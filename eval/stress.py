@@ -68,7 +68,7 @@ FORWARD_MAX_M = 1.0
 DROP_RANGE = (0.05, 0.3)
 # --cant-fraction: a headset with canted displays, each eye's view yawed outwards (the eval's --cant; the
 # Pimax 5k+'s native views 10 degrees each), drawn from its own generator (the other draws stay a seed's);
-# only in cases at the eval's own fov (--ppd 0), since --ppd's crops would no longer overlap.
+# under --ppd each eye's crop is the part of its view around the head's straight ahead (eval/eye_rig.h).
 CANT_CHOICES_DEG = [5.0, 10.0, 15.0]
 # The eval's clock for --drop-frames (eval/frame_clock.cpp): at most this many periods missed in a row.
 MOST_MISSED_IN_A_ROW = 3
@@ -102,7 +102,7 @@ def parse_args(argv):
                    help="share of cases whose app misses frames (--drop-frames %g-%g; default 0: the draws of "
                         "earlier rounds)" % DROP_RANGE)
     p.add_argument("--cant-fraction", type=float, default=0.0,
-                   help="share of the cases at --ppd 0 whose headset has canted displays (--cant, drawn from "
+                   help="share of the cases whose headset has canted displays (--cant, drawn from "
                         "--cant; default 0: the draws of earlier rounds)")
     p.add_argument("--cant", default=",".join(f"{x:g}" for x in CANT_CHOICES_DEG),
                    help="cant angles to draw from, degrees outwards per eye")
@@ -150,7 +150,7 @@ def draw_case(seed, index, args):
     drop = draw_drops(np.random.default_rng([seed, index, 11]), args.drop_fraction)
     cant_rng = np.random.default_rng([seed, index, 13])
     cant = float(cant_rng.choice([float(x) for x in args.cant.split(",")])) \
-        if cant_rng.uniform() < args.cant_fraction and ppd == 0.0 else 0.0
+        if cant_rng.uniform() < args.cant_fraction else 0.0
     return {
         "index": index,
         "name": f"s{seed}c{index:03d}",

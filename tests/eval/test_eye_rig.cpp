@@ -116,5 +116,33 @@ TEST(EvalEyeRig, CantTurnsEachEyeOutwards) {
   }
 }
 
+// --cant with --ppd: each eye's crop is the part of its canted view around the head's straight ahead, so that
+// straight ahead lands on the pixel it has in the parallel eye's crop at the same density, in both eyes.
+// There the canted view's tangent plane is 1/cos^2(cant) denser than at its axis: a small head turn moves it
+// by ppd / cos^2(cant) pixels a degree.
+TEST(EvalEyeRig, CantedCropsAtAPixelDensityLookStraightAhead) {
+  const glm::vec3 ahead(0.0f, 0.0f, -1.0f);
+  for (const double cantDeg : {10.0, 15.0}) {
+    for (const double ppd : {14.0, 20.0}) {
+      const auto parallel = eyeCameras(HeadPose{}, 96, 96, EyeRig{ppd});
+      const auto canted = eyeCameras(HeadPose{}, 96, 96, EyeRig{ppd, cantDeg});
+      HeadPose turned;
+      turned.orientation = glm::angleAxis(float(0.05 * kDegToRad), glm::vec3(0.0f, 1.0f, 0.0f));
+      const auto cantedTurned = eyeCameras(turned, 96, 96, EyeRig{ppd, cantDeg});
+      for (int eye = 0; eye < 2; ++eye) {
+        glm::vec2 p, c, t;
+        ASSERT_TRUE(projectDirection(parallel[eye], ahead, &p));
+        ASSERT_TRUE(projectDirection(canted[eye], ahead, &c));
+        ASSERT_TRUE(projectDirection(cantedTurned[eye], ahead, &t));
+        EXPECT_NEAR(c.x, p.x, 1e-2) << "cant " << cantDeg << " ppd " << ppd << " eye " << eye;
+        EXPECT_NEAR(c.y, p.y, 1e-2) << "cant " << cantDeg << " ppd " << ppd << " eye " << eye;
+        const double cosCant = std::cos(cantDeg * kDegToRad);
+        EXPECT_NEAR(std::fabs(t.x - c.x) / 0.05, ppd / (cosCant * cosCant), 0.01 * ppd)
+            << "cant " << cantDeg << " ppd " << ppd << " eye " << eye;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace steadyxr::eval

@@ -195,20 +195,21 @@ for i in range(40):
     else:
         assert "--drop-frames" not in command, command
 assert 10 <= len(drops) <= 30, len(drops)  # 20 expected; about 3 standard deviations either side
-# --cant-fraction: canted views only where the eval can render them (--ppd 0: its --ppd crops would no longer
-# overlap, and the eval refuses the pair), at an angle from --cant, the rest of a case as drawn without it.
-canting = stress.parse_args(["--eval", "x", "--out", "y", "--cant-fraction", "1", "--cant", "5,10"])
-canted = 0
+# --cant-fraction: canted views at an angle from --cant, the eval told it, the rest of a case as drawn without it;
+# a share of the cases near the fraction, at every --ppd.
+canting = stress.parse_args(["--eval", "x", "--out", "y", "--cant-fraction", "0.5", "--cant", "5,10"])
+canted = set()
 for i in range(40):
     with_cant = with_and_without(63, i, canting, "cant", 0.0)
     command = stress.eval_command(dict(with_cant, trace="t.csv", picture="p.png"), canting, Path("out"))
-    if with_cant["ppd"] == 0.0:
+    if with_cant["cant"] > 0:
         assert with_cant["cant"] in (5.0, 10.0), with_cant["cant"]
         assert command[command.index("--cant") + 1] == f"{with_cant['cant']:g}", command
-        canted += 1
+        canted.add(i)
     else:
-        assert with_cant["cant"] == 0.0 and "--cant" not in command, with_cant
-assert 5 <= canted < 40, canted  # the --ppd draws are a third each of 0, 14 and 20
+        assert "--cant" not in command, command
+assert 10 <= len(canted) <= 30, len(canted)  # 20 expected; about 3 standard deviations either side
+assert {stress.draw_case(63, i, canting)["ppd"] for i in canted} == set(stress.PPD_CHOICES)
 
 # 9. Round 40's opt-in kinds. A nod or shake: the angle about its axis (small angles: the rotation vector's
 #    component), tremor filtered out below 6 Hz, rests before and after its window, has its strongest frequency

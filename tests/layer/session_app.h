@@ -43,6 +43,21 @@ inline size_t countOf(const std::string& text, const std::string& what) {
   return n;
 }
 
+// A plain swapchain's create info: one sample, face, layer and mip level.
+inline XrSwapchainCreateInfo swapchainInfo(XrSwapchainUsageFlags usage, VkFormat format, uint32_t width,
+                                           uint32_t height) {
+  auto ci = makeXr<XrSwapchainCreateInfo>(XR_TYPE_SWAPCHAIN_CREATE_INFO);
+  ci.usageFlags = usage;
+  ci.format = format;
+  ci.sampleCount = 1;
+  ci.width = width;
+  ci.height = height;
+  ci.faceCount = 1;
+  ci.arraySize = 1;
+  ci.mipCount = 1;
+  return ci;
+}
+
 // How the app's one colour image holds its two views: side by side (64 x 32 px) or one above the other
 // (32 x 64 px).
 enum class Layout { SideBySide, Stacked };
@@ -72,15 +87,8 @@ class App {
     binding.device = gVk->device();
     binding.queueFamilyIndex = gVk->queueFamilyIndex();
     session_ = std::make_unique<Session>(instance_, reinterpret_cast<XrSession>(uintptr_t{0x22}), 1, binding);
-    auto ci = makeXr<XrSwapchainCreateInfo>(XR_TYPE_SWAPCHAIN_CREATE_INFO);
-    ci.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT;
-    ci.format = format;
-    ci.sampleCount = 1;
-    ci.width = layout == Layout::Stacked ? 32 : 64;
-    ci.height = layout == Layout::Stacked ? 64 : 32;
-    ci.faceCount = 1;
-    ci.arraySize = 1;
-    ci.mipCount = 1;
+    auto ci = swapchainInfo(XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT, format,
+                            layout == Layout::Stacked ? 32 : 64, layout == Layout::Stacked ? 64 : 32);
     EXPECT_EQ(session_->createSwapchain(&ci, &swapchain_), XR_SUCCESS);
     {
       std::lock_guard lock(fake.mutex);

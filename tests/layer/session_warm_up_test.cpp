@@ -149,15 +149,8 @@ TEST_F(SessionTest, ADepthSwapchainMakesTheDepthPipelinesBeforehand) {
     App app = appWith(fake, cfg, holds);
     XrSwapchain depth = XR_NULL_HANDLE;
     if (depthSwapchain) {
-      auto ci = makeXr<XrSwapchainCreateInfo>(XR_TYPE_SWAPCHAIN_CREATE_INFO);
-      ci.usageFlags = XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
-      ci.format = VK_FORMAT_D32_SFLOAT;
-      ci.sampleCount = 1;
-      ci.width = 64;
-      ci.height = 32;
-      ci.faceCount = 1;
-      ci.arraySize = 1;
-      ci.mipCount = 1;
+      const auto ci =
+          swapchainInfo(XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_FORMAT_D32_SFLOAT, 64, 32);
       ASSERT_EQ(app.session_->createSwapchain(&ci, &depth), XR_SUCCESS);
     }
     ASSERT_TRUE(app.warmUp());
