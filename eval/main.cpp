@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
         if (!(o.ppd > 0.0)) throw std::invalid_argument("ppd");
       } else if (a == "--cant") {
         o.cantDeg = std::stod(next());
-        if (!(o.cantDeg > 0.0 && o.cantDeg <= 20.0)) throw std::invalid_argument("cant");
+        if (!(o.cantDeg >= 0.0 && o.cantDeg <= 20.0)) throw std::invalid_argument("cant");
       } else if (a == "--locomotion") {
         std::string error;
         if (!steadyxr::eval::parseLocomotion(next(), &o.locomotion, &error)) {

@@ -122,6 +122,12 @@ def parse_args(argv):
     unknown = [k for k in args.motions.split(",") if k not in motion_kinds]
     if unknown or not args.motions:
         p.error(f"--motions: unknown kind(s) {','.join(unknown)}; the kinds: {','.join(motion_kinds)}")
+    try:  # the eval's range, before anything is drawn
+        cants = [float(x) for x in args.cant.split(",")]
+    except ValueError:
+        cants = []
+    if not cants or not all(0.0 < x <= 20.0 for x in cants):
+        p.error(f"--cant: '{args.cant}' is not a list of angles in (0, 20] degrees")
     return args
 
 

@@ -156,6 +156,8 @@ assert {k: v for k, v in named[4].items() if k not in ("picture_kind", "rng")} =
     {k: v for k, v in plain.items() if k not in ("picture_kind", "rng")}
 expect_refused(["--pictures", "lines,photos"], "unknown kind(s) photos")
 expect_refused(["--scenes", "imageviewer,depth"], "unknown scene(s) depth")  # round 44: each case's eval failed
+expect_refused(["--cant", "10,25"], "--cant: '10,25' is not a list of angles in (0, 20] degrees")  # the eval's range
+expect_refused(["--cant", "ten"], "--cant: 'ten' is not a list of angles")
 def with_and_without(seed, index, flags, key, off):
     """Case `index` drawn with `flags` and without: the same case but for `key` (`off` without the flags)."""
     with_it, without = stress.draw_case(seed, index, flags), stress.draw_case(seed, index, every)
