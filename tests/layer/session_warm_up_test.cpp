@@ -1,7 +1,8 @@
 // The session's start: frames pass through while the filter's pipelines compile, and once filtering
 // has begun no frame waits again unless the user asks for new pipelines (a method switched live). The
 // session summary and the status file count those late waits apart (frames_warming_up_late), so that
-// a run under a real runtime (tests/layer/e2e) can ask for none. Pipelines are held back through
+// a run under a real runtime (tests/layer/e2e) can ask for none; an app with a depth swapchain gets the depth
+// variants made before its frames give depth. Pipelines are held back (and seen made) through
 // InstanceState::holdBackPipelinesForTests, which makes each compile's order the test's choice.
 #include "session_app.h"
 
@@ -20,6 +21,7 @@ namespace {
 using namespace session_rig;
 
 constexpr int32_t kProbeBit = 128, kObservationBit = 8192;  // passSpecKey's, in specialisation[14]
+constexpr size_t kDepthBits = 6;                            // passSpecKey's order
 
 // The default's probe: the plain one (every frame) or the head-locked switch's (epoch frames).
 bool isProbe(const core::PipelineDescription& d, bool observing) {
@@ -38,7 +40,7 @@ struct Holds {
   bool holdBack(const core::PipelineDescription& d) {
     if (isProbe(d, true)) switchProbeMade = true;
     if (d.pass == "temporal" && !isProbe(d, false) && !isProbe(d, true)) temporalPassMade = true;
-    if (d.specialisation.size() == 15 && d.specialisation[6] != 0) depthVariantMade = true;
+    if (d.specialisation.size() == 15 && d.specialisation[kDepthBits] != 0) depthVariantMade = true;
     if (isProbe(d, false)) return plainProbe;
     if (d.pass == "stereo") return stereoPass;
     return false;
