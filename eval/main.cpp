@@ -102,6 +102,9 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        runtime reports its views; with --ppd each eye's crop is the part of its
                        view around the head's straight ahead (an off-axis frustum), which both
                        eyes see
+  --app-msaa N         the app renders its eye images with N x MSAA (2 or 4), resolved, as most VR
+                       apps do: every method takes the resolved image as the app's (none is it;
+                       depth is the 1-sample render's, as an app that resolves depth from one sample)
   --locomotion KIND:N  the app's own rig motion, which it renders but does not submit (OpenXR
                        poses are the tracked head's): the layer sees the head, the picture moves
                        by both. turn:DEG_PER_S (a smooth turn, left for > 0), strafe:M_PER_S,
@@ -203,6 +206,9 @@ int main(int argc, char** argv) {
       } else if (a == "--cant") {
         o.cantDeg = std::stod(next());
         if (!(o.cantDeg >= 0.0 && o.cantDeg <= 20.0)) throw std::invalid_argument("cant");
+      } else if (a == "--app-msaa") {
+        o.appMsaa = std::stoi(next());
+        if (o.appMsaa != 2 && o.appMsaa != 4) throw std::invalid_argument("app-msaa");
       } else if (a == "--locomotion") {
         std::string error;
         if (!steadyxr::eval::parseLocomotion(next(), &o.locomotion, &error)) {
@@ -266,8 +272,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!o.renderSizes.empty()) {
-    if (o.ppd > 0.0 || o.cantDeg > 0.0) {
-      std::cerr << "steadyxr-eval: --render-sizes keeps the eye's fov as it is: leave out --ppd and --cant\n";
+    if (o.ppd > 0.0 || o.cantDeg > 0.0 || o.appMsaa > 1) {
+      std::cerr
+          << "steadyxr-eval: --render-sizes keeps the eye's fov and one sample: leave out --ppd, --cant and "
+             "--app-msaa\n";
       return 2;
     }
     return steadyxr::eval::runRenderSizeStudy(o);

@@ -121,6 +121,12 @@ bool SceneRenderer::renderMsaa(int samples, int eye, const EyeCamera& cam, const
   return true;
 }
 
+bool SceneRenderer::renderApp(int samples, int eye, const EyeCamera& cam, const DrawList& draws,
+                              RenderedView* out, double* gpuMs, std::string* error) {
+  if (!renderBase(eye, cam, draws, out, gpuMs, error)) return false;
+  return samples == 1 || renderMsaa(samples, eye, cam, draws, &out->color, gpuMs, error);
+}
+
 bool SceneRenderer::renderGroundTruth(const EyeCamera& cam, const DrawList& draws, int gridSize, Image* out,
                                       std::string* error) {
   Impl& m = *impl_;
@@ -217,6 +223,9 @@ core::DepthRef SceneRenderer::baseDepth(int eye, float nearZ, float farZ) const 
 }
 core::ImageRef SceneRenderer::msaaColor(int samples, int eye) const {
   return refOf(impl_->msaaResolve[samples == 2 ? 0 : 1][eye], impl_->width, impl_->height);
+}
+core::ImageRef SceneRenderer::colorOf(int samples, int eye) const {
+  return samples == 1 ? baseColor(eye) : msaaColor(samples, eye);
 }
 core::ImageRef SceneRenderer::output(int eye) const {
   return refOf(impl_->outputs[eye], impl_->width, impl_->height);

@@ -61,6 +61,10 @@ class SceneRenderer {
   // samples = 2 or 4; resolved into eye `eye`'s MSAA target of that sample count.
   bool renderMsaa(int samples, int eye, const EyeCamera& cam, const DrawList& draws, Image* out,
                   double* gpuMs, std::string* error);
+  // The app's own image: the 1-sample render's depth (an app resolves depth from one sample) and, for
+  // samples 2 or 4 (--app-msaa), the colour of that MSAA render resolved; colorOf(samples, eye) holds it.
+  bool renderApp(int samples, int eye, const EyeCamera& cam, const DrawList& draws, RenderedView* out,
+                 double* gpuMs, std::string* error);
   // gridSize x gridSize renders offset by N-rooks (truth_samples.h), box-filtered in linear light
   // when sRGB (noise is never added); returned display-encoded like every other image.
   bool renderGroundTruth(const EyeCamera& cam, const DrawList& draws, int gridSize, Image* out,
@@ -71,7 +75,8 @@ class SceneRenderer {
   core::ImageRef baseColor(int eye) const;
   core::DepthRef baseDepth(int eye, float nearZ, float farZ) const;
   core::ImageRef msaaColor(int samples, int eye) const;
-  core::ImageRef output(int eye) const;  // RGBA8 UNORM storage images the filter writes
+  core::ImageRef colorOf(int samples, int eye) const;  // baseColor for 1 sample, else msaaColor
+  core::ImageRef output(int eye) const;                // RGBA8 UNORM storage images the filter writes
 
   struct Impl;
 

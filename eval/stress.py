@@ -70,6 +70,9 @@ DROP_RANGE = (0.05, 0.3)
 # Pimax 5k+'s native views 10 degrees each), drawn from its own generator (the other draws stay a seed's);
 # under --ppd each eye's crop is the part of its view around the head's straight ahead (eval/eye_rig.h).
 CANT_CHOICES_DEG = [5.0, 10.0, 15.0]
+# --msaa-fraction: an app that renders with 4x MSAA and submits the resolved image (the eval's --app-msaa 4), as
+# most VR apps do; `none` is then the MSAA image. Its own generator, as the cant.
+APP_MSAA_SAMPLES = 4
 # The eval's clock for --drop-frames (eval/frame_clock.cpp): at most this many periods missed in a row.
 MOST_MISSED_IN_A_ROW = 3
 
@@ -106,6 +109,9 @@ def parse_args(argv):
                         "--cant; default 0: the draws of earlier rounds)")
     p.add_argument("--cant", default=",".join(f"{x:g}" for x in CANT_CHOICES_DEG),
                    help="cant angles to draw from, degrees outwards per eye")
+    p.add_argument("--msaa-fraction", type=float, default=0.0,
+                   help="share of the cases whose app renders with %dx MSAA (--app-msaa; default 0: the draws "
+                        "of earlier rounds)" % APP_MSAA_SAMPLES)
     p.add_argument("--motions", default=",".join(stress_motion.KINDS),
                    help="motion kinds to draw from, in turn (" + ",".join(stress_motion.KINDS) + "; opt-in: " +
                    ",".join(stress_motion.OPT_IN_KINDS) + ")")
@@ -157,6 +163,7 @@ def draw_case(seed, index, args):
     cant_rng = np.random.default_rng([seed, index, 13])
     cant = float(cant_rng.choice([float(x) for x in args.cant.split(",")])) \
         if cant_rng.uniform() < args.cant_fraction else 0.0
+    app_msaa = APP_MSAA_SAMPLES if np.random.default_rng([seed, index, 17]).uniform() < args.msaa_fraction else 1
     return {
         "index": index,
         "name": f"s{seed}c{index:03d}",
@@ -173,6 +180,7 @@ def draw_case(seed, index, args):
         "locomotion": locomotion,
         "drop": drop,
         "cant": cant,
+        "app_msaa": app_msaa,
         "rng": rng,
     }
 
@@ -278,6 +286,8 @@ def eval_command(case, args, out_dir):
         cmd += ["--drop-frames", f"{case['drop']:g}"]
     if case.get("cant", 0.0) > 0:
         cmd += ["--cant", f"{case['cant']:g}"]
+    if case.get("app_msaa", 1) > 1:
+        cmd += ["--app-msaa", str(case["app_msaa"])]
     return cmd
 
 
@@ -359,7 +369,8 @@ def describe_motion(case):
     text = case["motion_kind"] + "(" + ",".join(f"{s}={p[k]}" for k, s in short.items() if k in p) + ")"
     return text + ("+" + case["locomotion"] if case.get("locomotion") else "") + \
         (f"+drop{case['drop']:g}" if case.get("drop", 0.0) > 0 else "") + \
-        (f"+cant{case['cant']:g}" if case.get("cant", 0.0) > 0 else "")
+        (f"+cant{case['cant']:g}" if case.get("cant", 0.0) > 0 else "") + \
+        (f"+msaa{case['app_msaa']}" if case.get("app_msaa", 1) > 1 else "")
 
 
 def print_table(cases):
@@ -420,7 +431,7 @@ def breakdown(cases):
             "app Hz": lambda c: f"{c['app_hz']:g}", "mipmaps": lambda c: "y" if c["mipmaps"] else "n",
             "locomotion": lambda c: c["locomotion"].split(":")[0] if c.get("locomotion") else "none",
             "dropped frames": lambda c: "yes" if c.get("drop", 0.0) > 0 else "no",
-            "cant": lambda c: f"{c.get('cant', 0.0):g}"}
+            "cant": lambda c: f"{c.get('cant', 0.0):g}", "app's MSAA": lambda c: f"{c.get('app_msaa', 1)}x"}
     lines = []
     for axis, key in axes.items():
         groups = {}

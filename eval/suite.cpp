@@ -131,6 +131,10 @@ int runSuite(const Options& o) {
     std::cerr << "steadyxr-eval: renderer: " << error << "\n";
     return 1;
   }
+  if (!renderer->supportsSamples(o.appMsaa)) {
+    std::cerr << "steadyxr-eval: --app-msaa " << o.appMsaa << ": not supported by " << device << "\n";
+    return 1;
+  }
   std::erase_if(variants, [&](const Variant& v) {
     if (renderer->supportsSamples(v.source)) return false;
     std::cerr << "steadyxr-eval: skipping '" << v.name << "': " << v.source << "x MSAA not supported by "
@@ -298,13 +302,18 @@ int runSuite(const Options& o) {
       for (int eye = 0; eye < 2; ++eye) {
         const DrawList draws = drawsOf(eye);
         double ms = 0;
-        if (!renderer->renderBase(eye, cams[eye], draws, &base[eye], &ms, &error)) {
+        if (!renderer->renderApp(o.appMsaa, eye, cams[eye], draws, &base[eye], &ms, &error)) {
           std::cerr << "steadyxr-eval: render: " << error << "\n";
           return 1;
         }
         baseMs += ms;
         for (int i = 0; i < 2; ++i) {
           if (!needMsaa[i]) continue;
+          if ((i == 0 ? 2 : 4) == o.appMsaa) {  // the app's own render
+            msaa[i][eye] = base[eye].color;
+            msaaMs[i] += ms;
+            continue;
+          }
           ms = 0;
           if (!renderer->renderMsaa(i == 0 ? 2 : 4, eye, cams[eye], draws, &msaa[i][eye], &ms, &error)) {
             std::cerr << "steadyxr-eval: msaa render: " << error << "\n";
@@ -371,7 +380,8 @@ int runSuite(const Options& o) {
         if (v.jitter && !jitterRendered) {
           // The jittered app frame: what the app renders with the fov the layer handed it.
           for (int eye = 0; eye < 2; ++eye) {
-            if (!renderer->renderBase(eye, jitterCams[eye], drawsOf(eye), &jittered[eye], nullptr, &error)) {
+            if (!renderer->renderApp(o.appMsaa, eye, jitterCams[eye], drawsOf(eye), &jittered[eye], nullptr,
+                                     &error)) {
               std::cerr << "steadyxr-eval: render: " << error << "\n";
               return 1;
             }
@@ -389,7 +399,7 @@ int runSuite(const Options& o) {
           core::StereoFrame frame;
           for (int eye = 0; eye < 2; ++eye) {
             core::ViewFrame& view = frame.views[eye];
-            view.color = v.source == 1 ? renderer->baseColor(eye) : renderer->msaaColor(v.source, eye);
+            view.color = renderer->colorOf(v.source == 1 ? o.appMsaa : v.source, eye);
             if (sc.depthGiven) view.depth = renderer->baseDepth(eye, cams[eye].nearZ, cams[eye].farZ);
             view.pose = trackedCams[eye].pose;  // the tracked head's, without the app's rig
             view.fov = cams[eye].fov;           // the unjittered fov, as the layer submits after un-jittering
@@ -535,11 +545,12 @@ int runSuite(const Options& o) {
     for (size_t vi = 0; vi < variants.size(); ++vi) {
       if (!active(variants[vi])) continue;
       rows.push_back(resultRow(sc, variants[vi], acc[vi], noneIndex >= 0 ? &acc[noneIndex] : nullptr, facts));
+      if (rows.back().source == 1) rows.back().source = o.appMsaa;  // the app's image: its samples
     }
-    // Cost = the filter's GPU time + the render time above the 1-sample render (MSAA's price).
+    // Cost = the filter's GPU time + the render time above the app's render (MSAA's price).
     double baseRender = 0;
     for (const ResultRow& r : rows) {
-      if (r.scenario == sc.label && r.source == 1 && r.renderMs > 0) baseRender = r.renderMs;
+      if (r.scenario == sc.label && r.source == o.appMsaa && r.renderMs > 0) baseRender = r.renderMs;
     }
     for (ResultRow& r : rows) {
       if (r.scenario == sc.label) r.costMs = r.gpuMs + std::max(0.0, r.renderMs - baseRender);

@@ -47,6 +47,9 @@ struct Options {
   // > 0: canted displays, each eye's view yawed outwards by this many degrees (eye_rig.h, EyeRig).
   double cantDeg = 0.0;
   EyeRig eyeRig() const { return {ppd, cantDeg}; }
+  // The app's samples per pixel: 2 or 4 renders its eye images with MSAA, resolved, as most VR apps do;
+  // every method then takes the resolved image as the app's (`none` is it). 1: one sample.
+  int appMsaa = 1;
   // The app's own rig motion on top of the head's, which the layer is not told (locomotion.h).
   Locomotion locomotion;
   // > 0: the share of app periods the app misses (frame_clock.h): a missed frame's pose step is two periods.

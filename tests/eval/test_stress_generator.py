@@ -212,6 +212,20 @@ for i in range(40):
         assert "--cant" not in command, command
 assert 10 <= len(canted) <= 30, len(canted)  # 20 expected; about 3 standard deviations either side
 assert {stress.draw_case(63, i, canting)["ppd"] for i in canted} == set(stress.PPD_CHOICES)
+# --msaa-fraction: the app's 4x MSAA, the eval told it, the rest of a case as drawn without it; a share of the
+# cases near the fraction.
+multisampling = stress.parse_args(["--eval", "x", "--out", "y", "--msaa-fraction", "0.5"])
+multisampled = 0
+for i in range(40):
+    with_msaa = with_and_without(64, i, multisampling, "app_msaa", 1)
+    command = stress.eval_command(dict(with_msaa, trace="t.csv", picture="p.png"), multisampling, Path("out"))
+    if with_msaa["app_msaa"] > 1:
+        assert with_msaa["app_msaa"] == 4, with_msaa["app_msaa"]
+        assert command[command.index("--app-msaa") + 1] == "4", command
+        multisampled += 1
+    else:
+        assert "--app-msaa" not in command, command
+assert 10 <= multisampled <= 30, multisampled  # 20 expected; about 3 standard deviations either side
 
 # 9. Round 40's opt-in kinds. A nod or shake: the angle about its axis (small angles: the rotation vector's
 #    component), tremor filtered out below 6 Hz, rests before and after its window, has its strongest frequency
