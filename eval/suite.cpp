@@ -141,6 +141,11 @@ int runSuite(const Options& o) {
               << device << "\n";
     return true;
   });
+  // A 1-sample variant reads the app's own image, which has the app's samples (--app-msaa): what it
+  // reads, its render time and its results row's samples all follow from its source.
+  for (Variant& v : variants) {
+    if (v.source == 1) v.source = o.appMsaa;
+  }
   for (Variant& v : variants) {
     if (v.oracle) continue;
     if (o.ppd > 0.0) {
@@ -399,7 +404,7 @@ int runSuite(const Options& o) {
           core::StereoFrame frame;
           for (int eye = 0; eye < 2; ++eye) {
             core::ViewFrame& view = frame.views[eye];
-            view.color = renderer->colorOf(v.source == 1 ? o.appMsaa : v.source, eye);
+            view.color = renderer->colorOf(v.source, eye);
             if (sc.depthGiven) view.depth = renderer->baseDepth(eye, cams[eye].nearZ, cams[eye].farZ);
             view.pose = trackedCams[eye].pose;  // the tracked head's, without the app's rig
             view.fov = cams[eye].fov;           // the unjittered fov, as the layer submits after un-jittering
@@ -545,7 +550,6 @@ int runSuite(const Options& o) {
     for (size_t vi = 0; vi < variants.size(); ++vi) {
       if (!active(variants[vi])) continue;
       rows.push_back(resultRow(sc, variants[vi], acc[vi], noneIndex >= 0 ? &acc[noneIndex] : nullptr, facts));
-      if (rows.back().source == 1) rows.back().source = o.appMsaa;  // the app's image: its samples
     }
     // Cost = the filter's GPU time + the render time above the app's render (MSAA's price).
     double baseRender = 0;
