@@ -25,11 +25,12 @@ EIGHT_BIT_RMSE_FLOOR = 1.0 / (255.0 * math.sqrt(12.0))
 
 
 def read_series(path, column, from_frame=0):
-    """{(case, method): {frame: value}}, frames from_frame on"""
+    """{(case, method): {frame: value}}, frames from_frame on; a frame whose set is empty (-1: a resolved
+    edge out of view, resolved_edges.csv) has no value"""
     series = defaultdict(dict)
     with open(path, newline="") as f:
         for row in csv.DictReader(f):
-            if int(row["frame"]) >= from_frame:
+            if int(row["frame"]) >= from_frame and float(row[column]) >= 0:
                 series[(row["scenario"], row["method"])][int(row["frame"])] = float(row[column])
     return series
 

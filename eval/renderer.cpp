@@ -122,9 +122,11 @@ bool SceneRenderer::renderMsaa(int samples, int eye, const EyeCamera& cam, const
 }
 
 bool SceneRenderer::renderApp(int samples, int eye, const EyeCamera& cam, const DrawList& draws,
-                              RenderedView* out, double* gpuMs, std::string* error) {
+                              RenderedView* out, double* gpuMs, std::string* error, Image* oneSampleColor) {
   if (!renderBase(eye, cam, draws, out, gpuMs, error)) return false;
-  return samples == 1 || renderMsaa(samples, eye, cam, draws, &out->color, gpuMs, error);
+  if (samples == 1) return true;
+  if (oneSampleColor) *oneSampleColor = out->color;
+  return renderMsaa(samples, eye, cam, draws, &out->color, gpuMs, error);
 }
 
 bool SceneRenderer::renderGroundTruth(const EyeCamera& cam, const DrawList& draws, int gridSize, Image* out,

@@ -63,8 +63,9 @@ class SceneRenderer {
                   double* gpuMs, std::string* error);
   // The app's own image: the 1-sample render's depth (an app resolves depth from one sample) and, for
   // samples 2 or 4 (--app-msaa), the colour of that MSAA render resolved; colorOf(samples, eye) holds it.
+  // oneSampleColor (optional, samples > 1): the 1-sample render's colour as well.
   bool renderApp(int samples, int eye, const EyeCamera& cam, const DrawList& draws, RenderedView* out,
-                 double* gpuMs, std::string* error);
+                 double* gpuMs, std::string* error, Image* oneSampleColor = nullptr);
   // gridSize x gridSize renders offset by N-rooks (truth_samples.h), box-filtered in linear light
   // when sRGB (noise is never added); returned display-encoded like every other image.
   bool renderGroundTruth(const EyeCamera& cam, const DrawList& draws, int gridSize, Image* out,

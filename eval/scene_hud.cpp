@@ -113,22 +113,25 @@ OverlayMasks overlayMasks(const std::array<const DepthMap*, 2>& depth, const std
   return m;
 }
 
+double pooledMaskedRmse(const std::array<Image, 2>& a, const std::array<Image, 2>& b,
+                        const std::array<std::vector<uint8_t>, 2>& mask, double* pixels) {
+  double sq = 0, n = 0;
+  for (int eye = 0; eye < 2; ++eye) {
+    const double r = maskedRmse(a[eye], b[eye], mask[eye]);
+    const double px = double(std::count(mask[eye].begin(), mask[eye].end(), uint8_t(1)));
+    if (r >= 0) sq += r * r * px, n += px;
+  }
+  if (pixels) *pixels = n;
+  return n > 0 ? std::sqrt(sq / n) : -1.0;
+}
+
 std::string overlayCsvRow(const std::array<Image, 2>& out, const std::array<Image, 2>& truth,
                           const OverlayMasks& masks) {
-  auto pooled = [&](const std::array<std::vector<uint8_t>, 2>& mask, double* pixels) {
-    double sq = 0, n = 0;
-    for (int eye = 0; eye < 2; ++eye) {
-      const double r = maskedRmse(out[eye], truth[eye], mask[eye]);
-      const double px = double(std::count(mask[eye].begin(), mask[eye].end(), uint8_t(1)));
-      if (r >= 0) sq += r * r * px, n += px;
-    }
-    if (pixels) *pixels = n;
-    return n > 0 ? std::sqrt(sq / n) : -1.0;
-  };
   double n = 0;
-  const double all = pooled(masks.all, &n);
-  return fmt(all, 6) + ',' + std::to_string(int(n)) + ',' + fmt(pooled(masks.core, nullptr), 6) + ',' +
-         fmt(pooled(masks.border, nullptr), 6);
+  const double all = pooledMaskedRmse(out, truth, masks.all, &n);
+  return fmt(all, 6) + ',' + std::to_string(int(n)) + ',' +
+         fmt(pooledMaskedRmse(out, truth, masks.core, nullptr), 6) + ',' +
+         fmt(pooledMaskedRmse(out, truth, masks.border, nullptr), 6);
 }
 
 }  // namespace steadyxr::eval

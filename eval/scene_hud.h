@@ -42,6 +42,10 @@ std::vector<uint8_t> overlayMask(const DepthMap& depth, const EyeCamera& cam, fl
 
 // RMSE of a against b over the masked pixels (all three channels); -1 when the mask is empty.
 double maskedRmse(const Image& a, const Image& b, const std::vector<uint8_t>& mask);
+// The same over both eyes pooled (the root of the mean squared error over their masked pixels); -1 when
+// both masks are empty. pixels (optional) gets the masked pixels' count, both eyes.
+double pooledMaskedRmse(const std::array<Image, 2>& a, const std::array<Image, 2>& b,
+                        const std::array<std::vector<uint8_t>, 2>& mask, double* pixels);
 
 // Per eye: the overlay and its one-pixel ring (`all`, overlayMask dilated), the overlay's own pixels
 // (`core`) and the ring of world pixels around them (`border` = all minus core).

@@ -71,7 +71,9 @@ DROP_RANGE = (0.05, 0.3)
 # under --ppd each eye's crop is the part of its view around the head's straight ahead (eval/eye_rig.h).
 CANT_CHOICES_DEG = [5.0, 10.0, 15.0]
 # --msaa-fraction: an app that renders with 4x MSAA and submits the resolved image (the eval's --app-msaa 4), as
-# most VR apps do; `none` is then the MSAA image. Its own generator, as the cant.
+# most VR apps do; `none` is then the MSAA image. Its own generator, as the cant. Such a case is judged on the
+# whole image as the others, with the resolved edges, the ring of pixels beside them and the rest reported
+# beside (resolved_edges.csv, eval/resolved_edges.h).
 APP_MSAA_SAMPLES = 4
 # The eval's clock for --drop-frames (eval/frame_clock.cpp): at most this many periods missed in a row.
 MOST_MISSED_IN_A_ROW = 3
@@ -349,6 +351,13 @@ def judge(case, out_dir):
             case_label = next(iter(series))[0]  # one case per run
             v[f"overlay_{part}_mean"], v[f"overlay_{part}_worst"] = overlay_report.ratios(
                 series[(case_label, "default")], series[(case_label, "none")])
+    if (out_dir / "resolved_edges.csv").exists():  # an MSAA app: its resolved edges, the ring beside, the rest
+        for part in ("edge", "ring", "rest"):
+            series = overlay_report.read_series(out_dir / "resolved_edges.csv", "rmse_" + part)
+            default = {k[1]: frames for k, frames in series.items()}.get("default", {})
+            none = {k[1]: frames for k, frames in series.items()}.get("none", {})
+            if set(default) & set(none):  # frames where the set is in view for both
+                v[f"edges_{part}_mean"], v[f"edges_{part}_worst"] = overlay_report.ratios(default, none)
     return v
 
 
@@ -404,6 +413,12 @@ def print_table(cases):
             print(f"{'':9} head-locked overlay, default/none: its pixels mean {v['overlay_core_mean']:.3f} worst frame "
                   f"{v['overlay_core_worst']:.3f}; the world ring around it mean {v['overlay_border_mean']:.3f} "
                   f"worst frame {v['overlay_border_worst']:.3f}")
+        if "edges_rest_mean" in v:
+            parts = [f"{label} mean {v[f'edges_{part}_mean']:.3f}" + (
+                f" worst frame {v['edges_ring_worst']:.3f}" if part == "ring" else "")
+                for part, label in (("edge", "its resolved edges"), ("ring", "the ring beside them"),
+                                    ("rest", "the rest")) if f"edges_{part}_mean" in v]
+            print(f"{'':9} the app's MSAA, default/none: " + "; ".join(parts))
 
 
 def summary(cases):

@@ -17,6 +17,7 @@
 #include "oracle.h"
 #include "progress.h"
 #include "renderer.h"
+#include "resolved_edges.h"
 #include "results.h"
 #include "scenario_list.h"
 #include "scene.h"
@@ -184,6 +185,12 @@ int runSuite(const Options& o) {
             "stereo_diff_gt,stereo_error,mtcd_display,rmse_display\n";
   // Head-locked content's own pixels (scene `hud`): RMSE per frame on the overlay mask (scene_hud.h).
   std::ofstream overlayCsv;
+  // An MSAA app (--app-msaa): RMSE per frame on its resolved edges, the ring beside them and the rest.
+  std::ofstream edgesCsv;
+  if (o.appMsaa > 1) {
+    edgesCsv.open(o.outDir + "/resolved_edges.csv");
+    edgesCsv << kResolvedEdgesCsvHeader << '\n';
+  }
   std::ofstream autoHudCsv;    // round 41's study: when the detector decided, and its epochs
   std::ofstream hudSwitchCsv;  // round 42: when the filter's own head-locked switch decided
   std::ofstream warpCsv(o.outDir + "/warp_errors.csv");
@@ -289,6 +296,7 @@ int runSuite(const Options& o) {
 
       // The app's images (1 sample), MSAA baselines and the ground truth, both eyes.
       std::array<RenderedView, 2> base;
+      std::array<Image, 2> oneSampleColor;  // --app-msaa: the same frame from 1 sample
       std::array<std::array<Image, 2>, 2> msaa;
       double baseMs = 0;
       std::array<double, 2> msaaMs{0, 0};
@@ -307,7 +315,8 @@ int runSuite(const Options& o) {
       for (int eye = 0; eye < 2; ++eye) {
         const DrawList draws = drawsOf(eye);
         double ms = 0;
-        if (!renderer->renderApp(o.appMsaa, eye, cams[eye], draws, &base[eye], &ms, &error)) {
+        if (!renderer->renderApp(o.appMsaa, eye, cams[eye], draws, &base[eye], &ms, &error,
+                                 &oneSampleColor[eye])) {
           std::cerr << "steadyxr-eval: render: " << error << "\n";
           return 1;
         }
@@ -373,6 +382,9 @@ int runSuite(const Options& o) {
         }
         overlay = overlayMasks({&base[0].depth, &base[1].depth}, cams, ppdTangentScale(o.ppd, o.width));
       }
+      const ResolvedEdgeMasks edges = o.appMsaa > 1
+                                          ? resolvedEdgeMasks(oneSampleColor, {base[0].color, base[1].color})
+                                          : ResolvedEdgeMasks{};
       std::array<RenderedView, 2> jittered;
       bool jitterRendered = false;
       std::array<EyeCamera, 2> jitterCams = eyeCameras(head, o.width, o.height, o.eyeRig(), jitter);
@@ -458,6 +470,9 @@ int runSuite(const Options& o) {
         if (!scene.headLocked.empty())
           overlayCsv << csvEscape(sc.label) << ',' << v.name << ',' << f << ','
                      << overlayCsvRow(out, ft.gt, overlay) << '\n';
+        if (edgesCsv.is_open())
+          edgesCsv << csvEscape(sc.label) << ',' << v.name << ',' << f << ','
+                   << resolvedEdgesCsvRow(out, ft.gt, edges) << '\n';
         frameOut[vi] = std::move(out);
       }
       // The default's worst frame against none's so far: keep every method's images of it (crops).
@@ -607,6 +622,7 @@ int runSuite(const Options& o) {
   std::cout << "Outputs: " << o.outDir
             << "/results.csv, results.json, timeseries.csv, warp_errors.csv, crops/*.png"
             << (o.corpus ? ", corpus.csv" : "") << (overlayCsv.is_open() ? ", overlay.csv" : "")
+            << (edgesCsv.is_open() ? ", resolved_edges.csv" : "")
             << (autoHudCsv.is_open() ? ", autohud.csv" : "")
             << (hudSwitchCsv.is_open() ? ", hudswitch.csv" : "")
             << (animateLabel.empty() ? "" : ", anim/" + animateLabel + "/") << "\n";
