@@ -413,7 +413,7 @@ def print_table(cases):
             print(f"{'':9} head-locked overlay, default/none: its pixels mean {v['overlay_core_mean']:.3f} worst frame "
                   f"{v['overlay_core_worst']:.3f}; the world ring around it mean {v['overlay_border_mean']:.3f} "
                   f"worst frame {v['overlay_border_worst']:.3f}")
-        if "edges_rest_mean" in v:
+        if any(key.startswith("edges_") for key in v):
             parts = [f"{label} mean {v[f'edges_{part}_mean']:.3f}" + (
                 f" worst frame {v['edges_ring_worst']:.3f}" if part == "ring" else "")
                 for part, label in (("edge", "its resolved edges"), ("ring", "the ring beside them"),
