@@ -354,8 +354,8 @@ def judge(case, out_dir):
     if (out_dir / "resolved_edges.csv").exists():  # an MSAA app: its resolved edges, the ring beside, the rest
         for part in ("edge", "ring", "rest"):
             series = overlay_report.read_series(out_dir / "resolved_edges.csv", "rmse_" + part)
-            default = {k[1]: frames for k, frames in series.items()}.get("default", {})
-            none = {k[1]: frames for k, frames in series.items()}.get("none", {})
+            by_method = {method: frames for (_, method), frames in series.items()}  # one case per run
+            default, none = by_method.get("default", {}), by_method.get("none", {})
             if set(default) & set(none):  # frames where the set is in view for both
                 v[f"edges_{part}_mean"], v[f"edges_{part}_worst"] = overlay_report.ratios(default, none)
     return v
