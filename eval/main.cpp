@@ -57,7 +57,8 @@ core, models the display stage (timewarp, seed 004 depth warping) and prints acc
                        test for a change as a whole), gain=0 (round 15's: no gain
                        compensation), gainall=0 (round 16's: the relit history
                        only where the box rejects the history), cut=0 (round 30's: no
-                       fresh start where the pose does not explain a frame), noisevar=V (a noise variance
+                       fresh start where the pose does not explain a frame), resolved=0 (round 47's:
+                       no item 15, the frame beside an edge the app resolved), noisevar=V (a noise variance
                        told instead; -1: the scene's own), history=16|8
                        (the history's bits per channel) and dither=0|1 after history=8;
                        autohud=1 (round 41's study: the profile hud from the frame after

@@ -149,6 +149,8 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
         params->steadyNoiseVariance = value;
     } else if (key == "autohud")  // round 41's study (head_locked_detector.h): switches to the profile hud
       v->autoHud = value != 0.0f;
+    else if (key == "resolved")  // round 48 (the default): 0 = no item 15 (round 47's default)
+      params->steadyResolvedEdges = value != 0.0f;
     else if (key == "hudswitch")  // round 42 (the default): 0 = no head-locked switch (round 41's default)
       params->steadyHeadLockedSwitch = value != 0.0f;
     else if (key == "hold")  // round 20: the 8-bit output's hysteresis in codes beyond 1/2 (0 = rounding)
@@ -191,7 +193,7 @@ bool parseVariant(const std::string& spec, Variant* v, std::string* error) {
           "' (hmax, wmin, wlb, amin, alpha, gamma, beta, ivbeta, tapcurv, sclip, d, catmull, floor, conf, "
           "reject, boxcur, curvbox, curvkappa, clip, blur, blurnoise, footprint, fpenc, bluraxis, "
           "jrecentre, near, interp, curvcentre, curvgate, curvinner, quantsrgb, noiseest, noisetime, "
-          "noisechange, gain, noisevar, history=16|8, "
+          "noisechange, gain, gainall, cut, hudswitch, autohud, hold, resolved, noisevar, history=16|8, "
           "dither after history=8)";
       return false;
     }

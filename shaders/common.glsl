@@ -37,7 +37,8 @@ layout(constant_id = 13) const int kHistoryEncoding = 0;
 // the history lags on one side, kept in the sign of the RGBA16F history's alpha
 // (Params::steadyClipCurvatureCentredGated), bit3 the box widened by the render's noise and bit4 the
 // histogram that estimates it (Params::steadyNoiseEstimate), bit5 the residual's histogram (round 14),
-// bit6 the frame's gain read and bit7 this dispatch the gain probe (Params::steadyGainCompensation).
+// bit6 the frame's gain read and bit7 this dispatch the gain probe (Params::steadyGainCompensation);
+// the later bits where filter_passes.cpp sets them (bit14: Params::steadyResolvedEdges, resolved_edge.glsl).
 layout(constant_id = 14) const int kSteadyBoxSwitches = 0;
 
 layout(set = 0, binding = 0) uniform sampler2D uSrc0;    // current colour / this eye

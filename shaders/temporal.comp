@@ -4,6 +4,7 @@
 // history (RGBA16F or RGBA8 sqrt-encoded: storeHistory; steady keeps its per-pixel sample count in the
 // alpha) and, when no stereo pass follows, the output.
 #include "common.glsl"
+#include "resolved_edge.glsl"
 
 const int kTaa = 0;
 const int kHmtaa = 1;
@@ -234,6 +235,7 @@ void processPixel(ivec2 p, ivec2 o) {
   vec3 mn = vec3(0.0), var = vec3(0.0);  // taa: YCoCg; vtaa, hybrid: RGB
   vec3 ymn = vec3(0.0), yvar = vec3(0.0);  // hybrid: YCoCg moments for the history clip
   vec3 fc = vec3(0.0);                     // hybrid: the current frame through the footprint filter
+  bool besideResolved = false;            // steady: item 15 (resolved_edge.glsl)
   if (neighbourhood) {
     const bool yCoCg = mode == kTaa || mode == kHybrid || mode == kSteady;
     vec3 s1, s2, sx;
@@ -267,6 +269,9 @@ void processPixel(ivec2 p, ivec2 o) {
         if (frameIsJittered()) {  // else the footprint above
           fc = jitteredFootprint(o, k);
           recentredClipMoments(o, ymn, yvar);
+        } else if (kResolvedEdges && besideResolvedEdge(o, p, cur, invZ, size)) {
+          besideResolved = true;  // item 15: the app's sample is the area average; no leak across its edge
+          fc = cur;
         }
       }
     }
@@ -411,6 +416,12 @@ void processPixel(ivec2 p, ivec2 o) {
       guardAlpha = max(axisAlpha.x, axisAlpha.y);
     }
     a = max(a, guardAlpha);
+    if (besideResolved) {
+      // Item 15: no blur budget beside an edge the app resolved, but for 1e-4 px^2 (a tap moved by float
+      // rounding of a still picture's reprojection keeps its history).
+      const float resolvedBlur = 2.0 * max(axisBlur.x, axisBlur.y) * 1e4;
+      a = max(a, resolvedBlur / (resolvedBlur + 1.0));
+    }
     a = P.steadyConfidence > 0.5 ? a : P.taaAlpha;  // ablation: constant alpha
     a = confirmed ? a : 1.0;
     cur = fc;

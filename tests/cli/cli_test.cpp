@@ -328,6 +328,7 @@ TEST_F(Cli, EverythingItWritesTheLayerAccepts) {
                                                    {"steady_gain_compensation", "off"},
                                                    {"steady_gain_relights_admitted", "off"},
                                                    {"steady_unexplained_frame_resets", "off"},
+                                                   {"steady_resolved_edges", "off"},
                                                    {"steady_head_locked_switch", "off"},
                                                    {"steady_clip_curvature", "on"},
                                                    {"steady_clip_curvature_centred", "on"},

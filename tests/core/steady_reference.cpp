@@ -67,6 +67,48 @@ float srgbHalfStepVar(float linear) {
   return float(halfStep * halfStep);
 }
 
+// Item 15 (round 48, Params::steadyResolvedEdges), from the README's statement of it: across the edge is the
+// direction d of the 4-neighbour whose display luma differs most from this pixel's (the first of +x, -x, +y,
+// -y on a tie); the other three 4-neighbours are within a code of this pixel's display luma (and within an
+// eighth of the step); the pixel two across is more than 4 codes away and its own next pixel as flat; the
+// pixel between is one coverage c in (1/8, 7/8) of the two sides' colours in every channel (to a code, in the
+// display's square root); and 1/z is not affine over the three pixels (second difference above 1e-3 of this
+// pixel's 1/z).
+bool besideResolvedEdge(const HostImage& cur, const HostImage& depth, int x, int y, float nearZ, float farZ) {
+  const float code = 1.0f / 255.0f;
+  auto colour = [&](glm::ivec2 at) { return vec3(fetchClamped(cur, x + at.x, y + at.y)); };
+  auto luma = [](vec3 c) { return std::sqrt(0.25f * c.r + 0.5f * c.g + 0.25f * c.b); };
+  auto invZ = [&](glm::ivec2 at) {
+    const int cx = std::clamp(x + at.x, 0, int(depth.width) - 1),
+              cy = std::clamp(y + at.y, 0, int(depth.height) - 1);
+    return 1.0f / nearZ + depth.at(uint32_t(cx), uint32_t(cy)).r * (1.0f / farZ - 1.0f / nearZ);
+  };
+  const glm::ivec2 directions[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  const vec3 near = colour({0, 0});
+  float offsets[4];
+  int across = 0;
+  for (int i = 0; i < 4; ++i) {
+    offsets[i] = std::abs(luma(colour(directions[i])) - luma(near));
+    if (offsets[i] > offsets[across]) across = i;
+  }
+  const glm::ivec2 d = directions[across];
+  const vec3 between = colour(d), far = colour(2 * d);
+  const float step = luma(far) - luma(near);
+  const float flat = std::min(std::abs(step) / 8.0f, code);
+  bool nearSideFlat = true;
+  for (int i = 0; i < 4; ++i)
+    if (i != across && offsets[i] >= flat) nearSideFlat = false;
+  const bool farSideFlat = std::abs(luma(colour(3 * d)) - luma(far)) < flat;
+  if (std::abs(step) <= 4.0f * code || !nearSideFlat || !farSideFlat) return false;
+  const vec3 s = far - near;
+  const float c = glm::dot(between - near, s) / std::max(glm::dot(s, s), 1e-12f);
+  const vec3 oneMix = glm::max(near + c * s, vec3(0.0f));
+  const vec3 off = glm::abs(glm::sqrt(between) - glm::sqrt(oneMix));
+  if (c <= 0.125f || c >= 0.875f || std::max({off.r, off.g, off.b}) >= code) return false;
+  const float secondDifference = invZ({0, 0}) - 2.0f * invZ(d) + invZ(2 * d);
+  return std::abs(secondDifference) > 1e-3f * std::abs(invZ({0, 0}));
+}
+
 }  // namespace
 
 HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage& hist, bool histValid,
@@ -132,6 +174,10 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
           area += wx[i + 1] * wy[j + 1] *
                   glm::pow(vec3(fetchClamped(cur, int(x) + i, int(y) + j)), vec3(1.0f / gamma));
       area = glm::pow(glm::max(area, vec3(0.0f)), vec3(gamma));
+      // Item 15: beside an edge the app resolved, its own sample (no footprint) and no blur budget.
+      const bool resolvedEdge = p.steadyResolvedEdges && depth && !jittered &&
+                                besideResolvedEdge(cur, *depth, int(x), int(y), nearZ, farZ);
+      if (resolvedEdge) area = vec3(fetchClamped(cur, int(x), int(y)));
       float distance = p.stereoFarDistanceM;
       if (depth) distance = 1.0f / (1.0f / nearZ + depth->at(x, y).r * (1.0f / farZ - 1.0f / nearZ));
       vec2 q;
@@ -227,6 +273,12 @@ HostImage steadyRef(const core::Params& p, const HostImage& cur, const HostImage
             }
           }
           alpha = std::max(alpha, guard);
+        }
+        if (resolvedEdge) {  // the blurrier axis's f(1 - f), both axes' worth, against 1e-4 px^2
+          const vec2 f = (q - 0.5f) - glm::floor(q - 0.5f), span = vec2(size) / vec2(histSize);
+          const vec2 axis = f * (1.0f - f) * span * span;
+          const float v = 2.0f * std::max(axis.x, axis.y);
+          alpha = std::max(alpha, v / (v + 1e-4f));
         }
         if (!p.steadyConfidence) alpha = p.taaAlpha;
         result = glm::max(fromYCoCg(glm::mix(clipped, toYCoCg(area), alpha)), vec3(0));

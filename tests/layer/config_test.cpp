@@ -137,6 +137,7 @@ TEST(Config, SteadyKeys) {
           "steady_noise_change_test = off\nsteady_gain_compensation = off\n"
           "steady_gain_relights_admitted = off\n"
           "steady_unexplained_frame_resets = off\n"
+          "steady_resolved_edges = off\n"
           "steady_head_locked_switch = off\n"
           "stereo_inverse_variance = off\n"
           "stereo_tap_curvature = off\nstereo_clip_gamma_after_steady = 1.5\n",
@@ -167,6 +168,7 @@ TEST(Config, SteadyKeys) {
   EXPECT_FALSE(c.params.steadyGainCompensation);        // on by default: off here shows the key is read
   EXPECT_FALSE(c.params.steadyGainRelightsAdmitted);    // on by default: off here shows the key is read
   EXPECT_FALSE(c.params.steadyUnexplainedFrameResets);  // on by default: off here shows the key is read
+  EXPECT_FALSE(c.params.steadyResolvedEdges);           // on by default: off here shows the key is read
   EXPECT_FALSE(c.params.steadyHeadLockedSwitch);        // on by default: off here shows the key is read
   EXPECT_FALSE(c.params.stereoInverseVariance);
   EXPECT_FALSE(c.params.stereoTapCurvature);

@@ -49,6 +49,7 @@ struct Options {
   VkFormat format = VK_FORMAT_R8G8B8A8_SRGB;  // of the app's input and output images
   InvocationBlock block = InvocationBlock::Auto;
   bool flatInput = false;  // --input flat: one clear colour instead of the rendered picture
+  bool depth = false;      // --depth: every eye with a depth image (one plane)
 };
 
 // The head's tremor over the frames: a yaw that steps through kTremorPoses orientations, so that every
@@ -63,7 +64,7 @@ void usage() {
   std::cout
       << "usage: steadyxr-bench [--sizes WxH[,WxH...]] [--methods m1,m2,...] [--iterations N]\n"
          "                      [--warmup N] [--warmup-ms MS] [--format srgb8|unorm8|rgba16f] [--csv FILE]\n"
-         "                      [--block auto|1x1|4x4] [--input picture|flat] [--pipelines]\n"
+         "                      [--block auto|1x1|4x4] [--input picture|flat] [--depth] [--pipelines]\n"
          "Per-eye sizes; 'none' is the plain copy pass every ratio is relative to (each iteration\n"
          "runs every method once, the copy first; a ratio is the median over iterations of the\n"
          "method's time over the copy's in the same iteration). Warm-up: --warmup iterations and\n"
@@ -90,6 +91,8 @@ void usage() {
          "@hudswitch=0: without the head-locked switch (steadyHeadLockedSwitch; on since round 42).\n"
          "--input: the eye images, a zone plate rendered for each frame's pose (the default since\n"
          "round 28: detail, aliasing and chroma, as an app's frames) or one flat colour (before).\n"
+         "--depth: every eye with a D32 depth image, one plane at half the range (the passes' depth\n"
+         "paths; round 48's item 15 is compiled in only there). @resolved=0: without it.\n"
          "--pipelines: after each method, the pipelines it used as PASS:STORAGE:SPECIALISATION,\n"
          "the arguments of steadyxr-shader-stats (registers and instructions on a GPU's compiler).\n";
 }
@@ -147,6 +150,8 @@ bool parse(int argc, char** argv, Options* o) {
       const std::string in = next();
       if (in != "picture" && in != "flat") return false;
       o->flatInput = in == "flat";
+    } else if (a == "--depth") {
+      o->depth = true;
     } else if (a == "--pipelines") {
       o->pipelines = true;
     } else {
@@ -308,6 +313,8 @@ std::optional<Params> methodParams(const std::string& spec) {
       params->steadyUnexplainedFrameResets = false;
     else if (suffix == "hudswitch=0")  // round 42: without the head-locked switch (the default before)
       params->steadyHeadLockedSwitch = false;
+    else if (suffix == "resolved=0")  // round 48: without item 15 (compiled in only with depth: --depth)
+      params->steadyResolvedEdges = false;
     else
       return std::nullopt;
   }
@@ -367,6 +374,15 @@ int main(int argc, char** argv) {
         return 1;
       }
     }
+    std::unique_ptr<Image> depth;
+    if (opt.depth) {
+      depth = std::make_unique<Image>(*ctx, VK_FORMAT_D32_SFLOAT, size,
+                                      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, false);
+      if (!steadyxr::bench::clearDepthImage(*ctx, depth->image(), 0.5f, &err)) {
+        std::cerr << "steadyxr-bench: the depth image: " << err << "\n";
+        return 1;
+      }
+    }
     // Every iteration runs each method once, in turn, the copy first, and a method's ratio is the median
     // over iterations of its time over the copy's in the same iteration. A GPU's clock drops to a fraction
     // between short submissions and rises again, seconds at a time (an H200: 345 MHz against 1980, round
@@ -416,6 +432,7 @@ int main(int argc, char** argv) {
           f.views[e].pose.orientation = tremorOrientation(i);
           f.views[e].pose.position = {e == 0 ? -0.032f : 0.032f, 0.0f, 0.0f};
           f.views[e].fov = kBenchFov;
+          if (depth) f.views[e].depth = DepthRef{depth->ref(VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL)};
           o.views[e] = out[e]->ref(outLayout);
           o.views[e].finalLayout = VK_IMAGE_LAYOUT_GENERAL;
         }
@@ -446,6 +463,7 @@ int main(int argc, char** argv) {
       Method& me = runs[k];
       for (const auto& image : in) me.filter->forgetImage(image->image());
       for (const auto& image : out) me.filter->forgetImage(image->image());
+      if (depth) me.filter->forgetImage(depth->image());
       if (opt.pipelines) printPipelines(methods[k], me.filter->pipelines());
       rows.push_back({size, k == 0 ? "copy (none)" : methods[k], median(me.gpu), median(copy.gpu),
                       median(me.host), median(me.hostCpu), minimum(me.gpu), minimum(copy.gpu), median(me.cpu),

@@ -57,7 +57,7 @@ std::vector<glm::vec4> renderZonePlate(VkExtent2D size, const core::Fov& fov, co
 }
 
 bool fillImage(core::VulkanContext& ctx, VkImage image, const std::function<void(VkCommandBuffer)>& record,
-               std::string* error) {
+               std::string* error, VkImageAspectFlags aspect) {
   const VkDevice device = ctx.device();
   VkCommandPoolCreateInfo cpci{};
   cpci.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
@@ -80,7 +80,7 @@ bool fillImage(core::VulkanContext& ctx, VkImage image, const std::function<void
   b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
   b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   b.image = image;
-  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  b.subresourceRange = {aspect, 0, 1, 0, 1};
   b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
   b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
   b.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
@@ -112,6 +112,17 @@ bool clearImage(core::VulkanContext& ctx, VkImage image, const glm::vec4& colour
         vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value, 1, &range);
       },
       error);
+}
+
+bool clearDepthImage(core::VulkanContext& ctx, VkImage image, float depth, std::string* error) {
+  return fillImage(
+      ctx, image,
+      [&](VkCommandBuffer cmd) {
+        const VkClearDepthStencilValue value{depth, 0};
+        const VkImageSubresourceRange range{VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, 1};
+        vkCmdClearDepthStencilImage(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value, 1, &range);
+      },
+      error, VK_IMAGE_ASPECT_DEPTH_BIT);
 }
 
 bool uploadImage(core::VulkanContext& ctx, VkImage image, VkFormat format, VkExtent2D size,

@@ -34,9 +34,11 @@ glm::vec3 pixelDirection(VkExtent2D size, const core::Fov& fov, const glm::quat&
 // Records `record` on a one-time command buffer between the image's transitions from UNDEFINED to
 // TRANSFER_DST_OPTIMAL and on to SHADER_READ_ONLY_OPTIMAL (one level and layer), submits it and waits.
 bool fillImage(core::VulkanContext& ctx, VkImage image, const std::function<void(VkCommandBuffer)>& record,
-               std::string* error);
+               std::string* error, VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT);
 // --input flat: one colour everywhere, as vkCmdClearColorImage takes it.
 bool clearImage(core::VulkanContext& ctx, VkImage image, const glm::vec4& colour, std::string* error);
+// --depth: one depth value everywhere (a D32 image), as vkCmdClearDepthStencilImage takes it.
+bool clearDepthImage(core::VulkanContext& ctx, VkImage image, float depth, std::string* error);
 
 // Copies `pixels` (linear RGB, as renderZonePlate gives them) into `image` (one level and layer, in
 // `format`: sRGB and UNORM RGBA8 or RGBA16F) through a staging buffer and leaves it in

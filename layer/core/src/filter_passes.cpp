@@ -313,7 +313,10 @@ SpecKey passSpecKey(const PassDispatch& d, const Params& params, bool blocked, u
                 // Round 42: the head-locked switch's observations, compiled into the probe of an epoch's
                 // frames only (lavapipe pays for the code in every invocation where it is compiled in: 0.6x
                 // the copy at 256 px, in frames where no epoch ends).
-                (sw.probe && d.uniforms.headLockedStep != 0 ? 8192 : 0)
+                (sw.probe && d.uniforms.headLockedStep != 0 ? 8192 : 0) |
+                // Round 48: beside an edge the app resolved, the frame as it is (the shader: with depth
+                // only).
+                (params.steadyResolvedEdges ? 16384 : 0)
           : 0};
 }
 

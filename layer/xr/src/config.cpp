@@ -127,6 +127,7 @@ constexpr BoolKey kBoolKeys[] = {
     {"steady_gain_compensation", &core::Params::steadyGainCompensation},
     {"steady_gain_relights_admitted", &core::Params::steadyGainRelightsAdmitted},
     {"steady_unexplained_frame_resets", &core::Params::steadyUnexplainedFrameResets},
+    {"steady_resolved_edges", &core::Params::steadyResolvedEdges},
     {"steady_head_locked_switch", &core::Params::steadyHeadLockedSwitch},
     {"stereo_inverse_variance", &core::Params::stereoInverseVariance},
     {"stereo_tap_curvature", &core::Params::stereoTapCurvature},

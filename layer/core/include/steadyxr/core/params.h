@@ -215,6 +215,16 @@ struct Params {
   // testifies head-locked; 8 samples that testified so in 2 such frames and never for the world decide.
   // false: round 41's default.
   bool steadyHeadLockedSwitch = true;
+  // Round 48 (the default, item 15): beside a geometric edge the app already resolved (its MSAA), the
+  // frame as it is, where it has depth. A pixel whose luma is flat (within a code) behind it and along the
+  // edge, whose neighbour across holds one mix of this pixel's colour and the colour two pixels across in
+  // every channel (a coverage strictly between 1/8 and 7/8), whose far side is flat too, with the step over
+  // 4 codes and 1/z not affine over the three pixels (a depth edge): there the app's image is already the
+  // pixel's area average, so the history's resampling blur (item 3's budget) and item 4's leak across the
+  // step are all error (round 47: every break of an MSAA app's promise sat in that ring). The pixel takes
+  // this frame's sample wherever the history's tap moved. A 1-sample app has no such mixes at geometric
+  // edges; a filtered texture does, but not across a depth edge. false: round 47's default.
+  bool steadyResolvedEdges = true;
   // Round 20 (the default): the 8-bit output keeps the code it showed last frame (at the texel the
   // reprojection came from) while the filtered estimate lies within 1/2 + steadyOutputHold codes of it
   // and moved by less than half a code since last frame (round 21: in codes through the encoding's
