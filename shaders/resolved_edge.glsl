@@ -33,11 +33,11 @@ bool besideResolvedEdge(ivec2 o, ivec2 p, vec3 centre, float centreInvZ, ivec2 s
   if (offsets.z > most) { d = ivec2(0, 1); most = offsets.z; }
   if (offsets.w > most) d = ivec2(0, -1);
   const vec3 between = blockAt(o, d.x, d.y), across = fetchSrc0(p + 2 * d);
-  const float step = displayLuma(across) - here;
-  const float sideTolerance = min(abs(step) * 0.125, oneCode);
+  const float stepAcross = displayLuma(across) - here;
+  const float sideTolerance = min(abs(stepAcross) * 0.125, oneCode);
   // The other three neighbours within the tolerance: at most one of the four (the one across) is outside it.
   const int outside = int(dot(vec4(greaterThanEqual(offsets, vec4(sideTolerance))), vec4(1.0)));
-  if (abs(step) <= 4.0 * oneCode || outside > 1 ||
+  if (abs(stepAcross) <= 4.0 * oneCode || outside > 1 ||
       abs(displayLuma(fetchSrc0(p + 3 * d)) - displayLuma(across)) >= sideTolerance)
     return false;
   // The coverage that mixes the two sides closest to the pixel between (least squares over RGB).

@@ -93,13 +93,13 @@ bool besideResolvedEdge(const HostImage& cur, const HostImage& depth, int x, int
   }
   const glm::ivec2 d = directions[across];
   const vec3 between = colour(d), far = colour(2 * d);
-  const float step = luma(far) - luma(near);
-  const float flat = std::min(std::abs(step) / 8.0f, code);
+  const float stepAcross = luma(far) - luma(near);
+  const float flat = std::min(std::abs(stepAcross) / 8.0f, code);
   bool nearSideFlat = true;
   for (int i = 0; i < 4; ++i)
     if (i != across && offsets[i] >= flat) nearSideFlat = false;
   const bool farSideFlat = std::abs(luma(colour(3 * d)) - luma(far)) < flat;
-  if (std::abs(step) <= 4.0f * code || !nearSideFlat || !farSideFlat) return false;
+  if (std::abs(stepAcross) <= 4.0f * code || !nearSideFlat || !farSideFlat) return false;
   const vec3 s = far - near;
   const float c = glm::dot(between - near, s) / std::max(glm::dot(s, s), 1e-12f);
   const vec3 oneMix = glm::max(near + c * s, vec3(0.0f));
