@@ -46,16 +46,26 @@ Frame render(const RefView& view, Render how, bool oneSurface = false) {
   for (uint32_t y = 0; y < kSize; ++y)
     for (uint32_t x = 0; x < kSize; ++x) {
       const float cx = float(x) + 0.5f, cy = float(y) + 0.5f;
-      float far = 0.0f;
+      // A pixel whose four corners lie on one side of the (nearly straight) edge lies on it whole: only the
+      // pixels it crosses take their samples (the host's share of the test, in the sanitizers' Debug build).
+      int cornersFar = 0;
+      for (int k = 0; k < 4; ++k)
+        cornersFar += onFarSide(view, float(x + uint32_t(k & 1)), float(y + uint32_t(k >> 1)));
+      const bool crossed = cornersFar != 0 && cornersFar != 4;
+      float far = cornersFar == 4 ? 1.0f : 0.0f;
       if (how == Render::OneSample) far = onFarSide(view, cx, cy) ? 1.0f : 0.0f;
-      if (how == Render::Msaa4)
+      if (how == Render::Msaa4 && crossed) {
+        far = 0.0f;
         for (const glm::vec2 s : kMsaa4) far += onFarSide(view, cx + s.x, cy + s.y) ? 0.25f : 0.0f;
-      if (how == Render::Truth)
+      }
+      if (how == Render::Truth && crossed) {
+        far = 0.0f;
         for (int k = 0; k < 64; ++k)
           far += onFarSide(view, float(x) + (float(k % 8) + 0.5f) / 8.0f,
                            float(y) + (float(k / 8) + 0.5f) / 8.0f)
                      ? 1.0f / 64.0f
                      : 0.0f;
+      }
       img.at(x, y) = glm::vec4(glm::mix(kNearSide, kFarSide, far), 1.0f);
       const float z = !oneSurface && onFarSide(view, cx, cy) ? kFarM : kNearM;
       depth.at(x, y).r =
@@ -185,8 +195,8 @@ TEST_F(CoreTest, SteadyResolvedEdgeLeavesOtherEdgesAsTheyWere) {
   for (const Case c : {Case{"a 1-sample edge", Render::OneSample, false, true},
                        Case{"a mixed step on one surface", Render::Msaa4, true, true},
                        Case{"no depth", Render::Msaa4, false, false}}) {
-    const auto with = runUnderTremor(c.how, true, c.oneSurface, c.withDepth, 12);
-    const auto without = runUnderTremor(c.how, false, c.oneSurface, c.withDepth, 12);
+    const auto with = runUnderTremor(c.how, true, c.oneSurface, c.withDepth, 8);
+    const auto without = runUnderTremor(c.how, false, c.oneSurface, c.withDepth, 8);
     ASSERT_TRUE(with && without) << "filter creation failed";
     for (size_t k = 0; k < with->outputs.size(); ++k)
       EXPECT_EQ(compare(with->outputs[k], without->outputs[k]).maxAbs, 0.0f) << c.what << ", frame " << k;
