@@ -5,8 +5,9 @@
 
 const bool kResolvedEdges = kMode == 4 && (kSteadyBoxSwitches & 16384) != 0 && (kDepthBits & 1) != 0;
 
-// The display's value of a linear colour's luma, gamma 2 standing in for sRGB (item 4's encoding).
-float displayLuma(vec3 linearRgb) { return sqrt(dot(linearRgb, vec3(0.25, 0.5, 0.25))); }
+// The display's value of a linear colour's luma, gamma 2 standing in for sRGB (item 4's encoding); not the
+// probe's displayedLuma, which encodes each channel exactly for the head-locked switch's thresholds.
+float gamma2Luma(vec3 linearRgb) { return sqrt(dot(linearRgb, vec3(0.25, 0.5, 0.25))); }
 
 float invZAt(ivec2 p, ivec2 size) {
   return invZFromDepth(texelFetch(uDepth0, P.depth0Offset + clamp(p, ivec2(0), size - 1), 0).r, P.depth0);
@@ -23,9 +24,9 @@ float invZAt(ivec2 p, ivec2 size) {
 // side is flat. Every other test reads the 3x3 the pass already holds; lavapipe runs every fetch in every pixel.
 bool besideResolvedEdge(ivec2 o, ivec2 p, vec3 centre, float centreInvZ, ivec2 size) {
   const float oneCode = 1.0 / 255.0;
-  const float here = displayLuma(centre);
-  const vec4 neighbours = vec4(displayLuma(blockAt(o, 1, 0)), displayLuma(blockAt(o, -1, 0)),
-                               displayLuma(blockAt(o, 0, 1)), displayLuma(blockAt(o, 0, -1)));
+  const float here = gamma2Luma(centre);
+  const vec4 neighbours = vec4(gamma2Luma(blockAt(o, 1, 0)), gamma2Luma(blockAt(o, -1, 0)),
+                               gamma2Luma(blockAt(o, 0, 1)), gamma2Luma(blockAt(o, 0, -1)));
   const vec4 offsets = abs(neighbours - here);
   ivec2 d = ivec2(1, 0);
   float most = offsets.x;
@@ -33,12 +34,12 @@ bool besideResolvedEdge(ivec2 o, ivec2 p, vec3 centre, float centreInvZ, ivec2 s
   if (offsets.z > most) { d = ivec2(0, 1); most = offsets.z; }
   if (offsets.w > most) d = ivec2(0, -1);
   const vec3 between = blockAt(o, d.x, d.y), across = fetchSrc0(p + 2 * d);
-  const float stepAcross = displayLuma(across) - here;
+  const float stepAcross = gamma2Luma(across) - here;
   const float sideTolerance = min(abs(stepAcross) * 0.125, oneCode);
   // The other three neighbours within the tolerance: at most one of the four (the one across) is outside it.
   const int outside = int(dot(vec4(greaterThanEqual(offsets, vec4(sideTolerance))), vec4(1.0)));
   if (abs(stepAcross) <= 4.0 * oneCode || outside > 1 ||
-      abs(displayLuma(fetchSrc0(p + 3 * d)) - displayLuma(across)) >= sideTolerance)
+      abs(gamma2Luma(fetchSrc0(p + 3 * d)) - gamma2Luma(across)) >= sideTolerance)
     return false;
   // The coverage that mixes the two sides closest to the pixel between (least squares over RGB).
   const vec3 span = across - centre;
