@@ -283,7 +283,12 @@ void probeFrame(ivec2 sampleIndex) {
     if ((kDepthBits & 1) != 0) invZ = invZFromDepth(texelFetch(uDepth0, P.depth0Offset + p, 0).r, P.depth0);
     vec2 q;
     float iz;
-    if (P.historyValid != 0 && reproject(P.reproj[0], vec2(p) + 0.5, invZ, q, iz)) {
+    // The uniform last: lavapipe (Mesa 22.3) folds a branch on uniforms alone into a pipeline at its first
+    // dispatch, and where that removed half its code it compiles the pipeline again at every later dispatch. The
+    // head-locked switch's probe first runs in a frame without a history, and was compiled again in every frame
+    // after (round 49: 6 ms a frame from Mesa's shader cache, 280 ms without one).
+    const bool insideHistory = reproject(P.reproj[0], vec2(p) + 0.5, invZ, q, iz);
+    if (insideHistory && P.historyValid != 0) {
       const vec3 reprojected = sampleHistory(q);
       if (residualSampled && !jittered && all(lessThan(p + 2, P.src0Size))) {
         addNoiseSample(residualDetail(window, q), 1);

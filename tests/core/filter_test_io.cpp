@@ -44,6 +44,20 @@ TEST_F(CoreTest, ContextPicksCpuDeviceAndHasTimestamps) {
   EXPECT_GE(t->totalMs + 1e-9, t->temporalMs + t->stereoMs + t->otherMs - 1e-6);
 }
 
+// Round 49: the probe's time is its own span inside the first stage's (the bench prints it).
+TEST_F(CoreTest, DefaultTimesItsProbeInsideTheFirstStage) {
+  auto f = makeFilter("default");
+  Rig rig(32, 16);
+  const Frame fr{{pattern(32, 16, 5), pattern(32, 16, 6)}, {eye(0, 0), eye(0, 0)}};
+  rig.run(*f, fr);
+  rig.run(*f, fr);
+  const auto t = f->lastTimings();
+  ASSERT_TRUE(t);
+  EXPECT_GT(t->probeMs, 0.0);
+  EXPECT_LT(t->probeMs, t->temporalMs);  // the temporal passes follow it
+  EXPECT_GE(t->totalMs + 1e-9, t->temporalMs + t->stereoMs + t->otherMs - 1e-6);
+}
+
 TEST_F(CoreTest, NoneCopiesSubRectsOfLayeredSrgbImages) {
   // Both eyes in one 2-layer SRGB image, each at a sub-rect; output the same, at another offset.
   const uint32_t W = 80, H = 60, w = 64, h = 48;

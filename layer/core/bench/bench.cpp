@@ -248,6 +248,7 @@ struct Row {
   double ratioToCopy;          // median over iterations of the method's GPU time over the copy's in it
   double cpuRatioToCopy;       // the same of the process CPU time
   steadyxr::bench::Traffic model;
+  double probeMs;  // of gpuMs: steady's probe of the frame (PassTimings::probeMs), median
 };
 
 // The median over iterations of a[i] / b[i]: a method against the copy run in the same iteration.
@@ -395,7 +396,7 @@ int main(int argc, char** argv) {
     struct Method {
       std::unique_ptr<Filter> filter;
       steadyxr::bench::Traffic model;
-      std::vector<double> gpu, host, hostCpu, cpu;
+      std::vector<double> gpu, probe, host, hostCpu, cpu;
     };
     std::vector<Method> runs;
     for (const std::string& m : methods) {
@@ -456,6 +457,7 @@ int main(int argc, char** argv) {
         run.host.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
         run.hostCpu.push_back(h1 - h0);
         run.gpu.push_back(t ? t->totalMs : 0.0);
+        run.probe.push_back(t ? t->probeMs : 0.0);
       }
     }
     const Method& copy = runs.front();
@@ -468,15 +470,15 @@ int main(int argc, char** argv) {
       rows.push_back({size, k == 0 ? "copy (none)" : methods[k], median(me.gpu), median(copy.gpu),
                       median(me.host), median(me.hostCpu), minimum(me.gpu), minimum(copy.gpu), median(me.cpu),
                       median(copy.cpu), pairedRatio(me.gpu, copy.gpu), pairedRatio(me.cpu, copy.cpu),
-                      me.model});
+                      me.model, median(me.probe)});
       const Row& r = rows.back();
       std::printf(
           "%5ux%-5u %-18s gpu %8.3f ms x%5.2f copy | model %4.1f B/px x%4.2f, ops %5.2f | "
-          "min %8.3f ms x%5.2f | cpu %8.3f ms x%5.2f | host %7.1f us (thread cpu %5.1f)\n",
+          "min %8.3f ms x%5.2f | cpu %8.3f ms x%5.2f | host %7.1f us (thread cpu %5.1f) | probe %6.3f ms\n",
           size.width, size.height, r.method.c_str(), r.gpuMs, r.ratioToCopy, r.model.total(),
           r.model.total() / copy.model.total(), r.model.fetches + r.model.samples + r.model.stores,
           r.gpuMinMs, r.copyMinMs > 0 ? r.gpuMinMs / r.copyMinMs : 0.0, r.cpuMs, r.cpuRatioToCopy, r.hostUs,
-          r.hostCpuUs);
+          r.hostCpuUs, r.probeMs);
     }
     // What the pairing took out: the copy's own drift over the run (its first and last quarter).
     const auto quarter = std::ptrdiff_t(std::min(copy.gpu.size(), std::max<size_t>(1, copy.gpu.size() / 4)));

@@ -244,6 +244,7 @@ void Filter::Impl::collect(Slot& s) {
   auto span = [&](int a, int b) { return ts[b] >= ts[a] ? static_cast<double>(ts[b] - ts[a]) * toMs : 0.0; };
   PassTimings t;
   t.temporalMs = span(0, 1);
+  t.probeMs = span(0, 4);
   t.stereoMs = span(1, 2);
   t.otherMs = span(2, 3);
   t.totalMs = span(0, 3);

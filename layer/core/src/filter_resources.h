@@ -15,8 +15,8 @@ namespace steadyxr::core::detail {
 constexpr uint32_t kSlots = 3;
 // Dispatches per frame at most: two eyes times (first stage + stereo), with room to spare.
 constexpr uint32_t kMaxDispatches = 8;
-// Timestamps per frame: start, after the first stage, after stereo, end (PassTimings).
-constexpr uint32_t kQueries = 4;
+// Timestamps per frame: start, after the first stage, after stereo, end, after the probe (PassTimings).
+constexpr uint32_t kQueries = 5;
 
 // The one descriptor set layout of every pass (common.glsl): 0-3 samplers (src0, src1, depth0,
 // depth1), 4-5 storage images (history out, output), 6 the uniforms, 7 a sampler (the app's

@@ -75,7 +75,7 @@ bool Filter::Impl::submit(const StereoFrame& frame, const StereoOutput& output, 
   Slot& s = beginRecording();
   std::vector<VkImageMemoryBarrier> backToFinal = transitionIn(s.cmd, frame, output, plan);
   timestamp(s, 0);
-  bool ok = recordPasses(s, frame, output, plan, error);  // timestamps 1 and 2
+  bool ok = recordPasses(s, frame, output, plan, error);  // timestamps 4, 1 and 2
   if (pipelines.compiling) ok = false;  // no dispatch was recorded for the passes still compiling
   // Before the copy out: a staged output is copied to the app's image only where its pass ran.
   transitionOut(s.cmd, output, plan, ok, std::move(backToFinal));
@@ -367,6 +367,7 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
   if (probes) zeroRecords(s);
   bool ok = true;
   if (probes) ok = recordProbes(rec, c, probesGain, error);
+  timestamp(s, 4);  // the probe's part of the first stage (0 without one)
   if (ok && plan.firstStage) {
     for (uint32_t e = 0; e < plan.viewCount && ok; ++e) {
       const PassDispatch d = plan.temporal ? temporalPass(c, e) : plan.fxaa ? fxaaPass(c, e) : copyPass(c, e);

@@ -80,6 +80,7 @@ struct StereoOutput {
 // GPU time of each pass of the last completed frame, both eyes together, in milliseconds.
 struct PassTimings {
   double temporalMs = 0.0;
+  double probeMs = 0.0;  // of temporalMs: steady's probe of the frame (noise, gain, head-locked samples)
   double stereoMs = 0.0;
   double otherMs = 0.0;  // conversion / copy work
   double totalMs = 0.0;
