@@ -25,15 +25,16 @@ float invZAt(ivec2 p, ivec2 size) {
 bool besideResolvedEdge(ivec2 o, ivec2 p, vec3 centre, float centreInvZ, ivec2 size) {
   const float oneCode = 1.0 / 255.0;
   const float here = gamma2Luma(centre);
-  const vec4 neighbours = vec4(gamma2Luma(blockAt(o, 1, 0)), gamma2Luma(blockAt(o, -1, 0)),
-                               gamma2Luma(blockAt(o, 0, 1)), gamma2Luma(blockAt(o, 0, -1)));
+  const vec3 right = blockAt(o, 1, 0), left = blockAt(o, -1, 0), below = blockAt(o, 0, 1), above = blockAt(o, 0, -1);
+  const vec4 neighbours = vec4(gamma2Luma(right), gamma2Luma(left), gamma2Luma(below), gamma2Luma(above));
   const vec4 offsets = abs(neighbours - here);
   ivec2 d = ivec2(1, 0);
+  vec3 between = right;  // selected, not indexed: lavapipe gathers an indexed private array lane by lane
   float most = offsets.x;
-  if (offsets.y > most) { d = ivec2(-1, 0); most = offsets.y; }
-  if (offsets.z > most) { d = ivec2(0, 1); most = offsets.z; }
-  if (offsets.w > most) d = ivec2(0, -1);
-  const vec3 between = blockAt(o, d.x, d.y), across = fetchSrc0(p + 2 * d);
+  if (offsets.y > most) { d = ivec2(-1, 0); between = left; most = offsets.y; }
+  if (offsets.z > most) { d = ivec2(0, 1); between = below; most = offsets.z; }
+  if (offsets.w > most) { d = ivec2(0, -1); between = above; }
+  const vec3 across = fetchSrc0(p + 2 * d);
   const float stepAcross = gamma2Luma(across) - here;
   const float sideTolerance = min(abs(stepAcross) * 0.125, oneCode);
   // The other three neighbours within the tolerance: at most one of the four (the one across) is outside it.
