@@ -367,7 +367,7 @@ bool Filter::Impl::recordPasses(Slot& s, const StereoFrame& frame, const StereoO
   if (probes) zeroRecords(s);
   bool ok = true;
   if (probes) ok = recordProbes(rec, c, probesGain, error);
-  timestamp(s, 4);  // the probe's part of the first stage (0 without one)
+  timestamp(s, 4);  // the probe's part of the first stage (without one, only the timestamps' own cost)
   if (ok && plan.firstStage) {
     for (uint32_t e = 0; e < plan.viewCount && ok; ++e) {
       const PassDispatch d = plan.temporal ? temporalPass(c, e) : plan.fxaa ? fxaaPass(c, e) : copyPass(c, e);
